@@ -1,0 +1,48 @@
+#pragma once
+/// @file concepts.hpp  The customisation points of the library, each stated as a contract.
+/// A policy header ends with a static_assert that its type models its concept.
+
+#include <radiosity/mesh/patch_table.hpp>
+#include <radiosity/progress.hpp>
+#include <radiosity/spectrum.hpp>
+
+#include <concepts>
+#include <cstddef>
+#include <span>
+
+namespace radiosity {
+
+/// Something that fills row i of the form-factor matrix: `rows.row(i, out)` writes F_ij for every
+/// patch j into out (out.size() == n, F_ii = 0). Must be callable concurrently for different i
+/// (it is const and keeps its scratch per call), and deterministic: row i never depends on which
+/// rows were asked for before, nor on the thread that asks.
+template <class R>
+concept RowSource = requires(const R& rows, std::size_t i, std::span<float> out) {
+    rows.row(i, out);
+};
+
+/// A form-factor method (analytic, hemicube, ray-cast): `method.prepare(table)` sees the patch
+/// geometry once (building acceleration structures, keeping a reference to the table, which must
+/// outlive the method's use); afterwards it is a RowSource over those patches.
+template <class M>
+concept FormFactorMethod = RowSource<M> && requires(M& method, const PatchTable& table) {
+    method.prepare(table);
+};
+
+/// Optional capability of a form-factor method: one pair `method.pair(i, j)` = F_ij without
+/// computing the whole row (analytic and ray-cast have it; the hemicube, which sees all patches
+/// at once, does not).
+template <class M>
+concept PairFormFactor = FormFactorMethod<M> && requires(const M& method, std::size_t i, std::size_t j) {
+    { method.pair(i, j) } -> std::convertible_to<double>;
+};
+
+/// An assembled form-factor matrix (dense or sparse): its size, and a visit of the non-zero
+/// entries of row i as f(j, F_ij).
+template <class Mx>
+concept AssembledMatrix = requires(const Mx& m, std::size_t i, void (*f)(std::size_t, float)) {
+    { m.size() } -> std::convertible_to<std::size_t>;
+    m.for_each_in_row(i, f);
+};
+
+}  // namespace radiosity

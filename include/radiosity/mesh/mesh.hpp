@@ -1,0 +1,172 @@
+#pragma once
+/// @file mesh.hpp  The scene as an OpenMesh half-edge polygon mesh whose faces are the patches,
+/// each carrying emission E, reflectance R and radiosity B in the colour type S; building such a
+/// mesh from plain arrays; and the flat patch table made from it.
+
+// OpenMesh's IO header must come before its mesh headers (DESIGN.md, known quirks).
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
+
+#include <radiosity/error.hpp>
+#include <radiosity/geometry/vec.hpp>
+#include <radiosity/mesh/patch_table.hpp>
+#include <radiosity/spectrum.hpp>
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace radiosity {
+
+/// OpenMesh traits of a radiosity mesh: double-precision points, and per face the patch data.
+template <SpectrumType S>
+struct PatchTraits : public OpenMesh::DefaultTraits {
+    using Point = OpenMesh::Vec3d;
+    using Normal = OpenMesh::Vec3d;
+    FaceTraits {
+        S emission{};              ///< E: radiant exitance the patch emits by itself
+        S reflectance{};           ///< R: diffuse reflectance, each band in [0, 1)
+        S radiosity{};             ///< B: total radiant exitance, filled by a solve
+        std::uint32_t material = 0;  ///< index into the scene's materials (for shading breaks)
+        std::uint32_t surface = 0;   ///< index of the input face this patch was cut from
+    };
+};
+
+/// A radiosity scene: a polygon mesh (triangles and quads) whose faces are patches.
+template <SpectrumType S>
+using Mesh = OpenMesh::PolyMesh_ArrayKernelT<PatchTraits<S>>;
+
+/// A diffuse material: emission E and reflectance R.
+template <SpectrumType S>
+struct Material {
+    S emission{};     ///< E (W/m^2 or any consistent unit); radiance is E / pi
+    S reflectance{};  ///< R, each band in [0, 1)
+    std::string name;  ///< for messages and exports
+};
+
+/// A scene as plain arrays: vertex positions, polygon faces (vertex indices, counter-clockwise
+/// seen from the front), the material of each face, and the materials.
+template <SpectrumType S>
+struct Scene {
+    std::vector<Vec3> positions;                    ///< vertex positions
+    std::vector<std::vector<std::uint32_t>> faces;  ///< each face's vertex indices
+    std::vector<std::uint32_t> face_material;       ///< material index per face
+    std::vector<Material<S>> materials;             ///< the materials
+    std::string source = "scene";                   ///< file or scene name, for messages
+};
+
+namespace detail {
+template <SpectrumType S>
+void validate_material(const Material<S>& m, const std::string& where) {
+    if (!all_finite(m.emission) || !all_finite(m.reflectance))
+        throw Error(where + ": emission or reflectance is not a finite number");
+    for (std::size_t k = 0; k < band_count<S>; ++k) {
+        if (band(m.reflectance, k) < 0.0f || band(m.reflectance, k) >= 1.0f)
+            throw Error(where + ": reflectance " + std::to_string(band(m.reflectance, k)) +
+                        " is outside [0, 1)");
+        if (band(m.emission, k) < 0.0f) throw Error(where + ": emission is negative");
+    }
+}
+}  // namespace detail
+
+/// Builds the patch mesh of a scene, checking every input: indices in range, at least three
+/// vertices, finite coordinates, non-zero area, reflectance in [0, 1), finite non-negative
+/// emission. Throws Error naming the source and the face or material at fault. A face that
+/// would make the mesh non-manifold gets its own copies of its vertices (it stays a patch).
+template <SpectrumType S>
+Mesh<S> build_mesh(const Scene<S>& scene) {
+    const std::string& src = scene.source;
+    for (std::size_t m = 0; m < scene.materials.size(); ++m)
+        detail::validate_material(scene.materials[m],
+                                  src + ": material " + std::to_string(m) + " '" +
+                                      scene.materials[m].name + "'");
+    if (scene.face_material.size() != scene.faces.size())
+        throw Error(src + ": need one material index per face");
+    Mesh<S> mesh;
+    std::vector<typename Mesh<S>::VertexHandle> vh;
+    vh.reserve(scene.positions.size());
+    for (std::size_t v = 0; v < scene.positions.size(); ++v) {
+        const Vec3& p = scene.positions[v];
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+            throw Error(src + ": vertex " + std::to_string(v) + " is not a finite point");
+        vh.push_back(mesh.add_vertex({p.x, p.y, p.z}));
+    }
+    std::vector<Vec3> poly;
+    std::vector<typename Mesh<S>::VertexHandle> corners;
+    for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+        const std::string at = src + ": face " + std::to_string(f);
+        const auto& face = scene.faces[f];
+        if (face.size() < 3) throw Error(at + " has fewer than 3 vertices");
+        poly.clear();
+        corners.clear();
+        for (std::uint32_t v : face) {
+            if (v >= scene.positions.size())
+                throw Error(at + " refers to vertex " + std::to_string(v) + ", which does not exist");
+            poly.push_back(scene.positions[v]);
+            corners.push_back(vh[v]);
+        }
+        if (!(polygon_area(poly) > 0.0)) throw Error(at + " has zero area");
+        const std::uint32_t mat = scene.face_material[f];
+        if (mat >= scene.materials.size())
+            throw Error(at + " refers to material " + std::to_string(mat) + ", which does not exist");
+        auto fh = mesh.add_face(corners);
+        if (!fh.is_valid()) {  // non-manifold here: give the face its own vertices
+            for (auto& c : corners) c = mesh.add_vertex(mesh.point(c));
+            fh = mesh.add_face(corners);
+            if (!fh.is_valid()) throw Error(at + " could not be added to the mesh");
+        }
+        auto& d = mesh.data(fh);
+        d.emission = scene.materials[mat].emission;
+        d.reflectance = scene.materials[mat].reflectance;
+        d.material = mat;
+        d.surface = static_cast<std::uint32_t>(f);
+    }
+    return mesh;
+}
+
+/// Vertices of face f of a mesh, in order, as scene-space points.
+template <class M>
+std::vector<Vec3> face_polygon(const M& mesh, typename M::FaceHandle f) {
+    std::vector<Vec3> poly;
+    for (auto v : mesh.fv_range(f)) {
+        const auto& p = mesh.point(v);
+        poly.emplace_back(p[0], p[1], p[2]);
+    }
+    return poly;
+}
+
+/// The flat patch table of a mesh: patch i is face i. Throws Error for a zero-area face.
+template <class M>
+PatchTable make_patch_table(const M& mesh) {
+    PatchTable table;
+    for (auto f : mesh.faces()) table.add(face_polygon(mesh, f), "face " + std::to_string(f.idx()));
+    return table;
+}
+
+/// E_i of every face, in face order.
+template <SpectrumType S>
+std::vector<S> face_emission(const Mesh<S>& mesh) {
+    std::vector<S> out;
+    out.reserve(mesh.n_faces());
+    for (auto f : mesh.faces()) out.push_back(mesh.data(f).emission);
+    return out;
+}
+
+/// R_i of every face, in face order.
+template <SpectrumType S>
+std::vector<S> face_reflectance(const Mesh<S>& mesh) {
+    std::vector<S> out;
+    out.reserve(mesh.n_faces());
+    for (auto f : mesh.faces()) out.push_back(mesh.data(f).reflectance);
+    return out;
+}
+
+/// Stores B_i into the faces, in face order.
+template <SpectrumType S>
+void set_face_radiosity(Mesh<S>& mesh, std::span<const S> B) {
+    if (B.size() != mesh.n_faces()) throw Error("set_face_radiosity: need one value per face");
+    for (auto f : mesh.faces()) mesh.data(f).radiosity = B[static_cast<std::size_t>(f.idx())];
+}
+
+}  // namespace radiosity

@@ -1,0 +1,77 @@
+// Core types: spectra, polygons, the patch table, mesh building and the matrix checks.
+#include <radiosity/form_factor/matrix.hpp>
+#include <radiosity/mesh/mesh.hpp>
+#include <radiosity/solver/system.hpp>
+
+#include <doctest/doctest.h>
+
+using namespace radiosity;
+
+TEST_CASE("spectrum arithmetic is per band") {
+    const Rgb a{0.5f, 0.25f, 1.0f}, b{2.0f, 4.0f, 0.5f};
+    CHECK(a * b == Rgb{1.0f, 1.0f, 0.5f});
+    CHECK(a + b == Rgb{2.5f, 4.25f, 1.5f});
+    CHECK(max_abs(a - b) == doctest::Approx(3.75f));
+    CHECK(band(a * 2.0f, 2) == doctest::Approx(2.0f));
+    CHECK_FALSE(all_finite(Rgb{1.0f, NAN, 0.0f}));
+}
+
+TEST_CASE("polygon area, normal and centroid of a unit square") {
+    const std::vector<Vec3> sq{{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {0, 1, 0}};
+    CHECK(polygon_area(sq) == doctest::Approx(2.0));
+    CHECK(polygon_normal(sq).z == doctest::Approx(1.0));
+    const Vec3 c = polygon_centroid(sq);
+    CHECK(c.x == doctest::Approx(1.0));
+    CHECK(c.y == doctest::Approx(0.5));
+}
+
+TEST_CASE("clipping a square to a plane keeps the front half") {
+    const std::vector<Vec3> sq{{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}};
+    const auto half = clip_to_plane(sq, Vec3(1, 0, 0), Vec3(1, 0, 0));
+    CHECK(polygon_area(half) == doctest::Approx(2.0));
+    CHECK(clip_to_plane(sq, Vec3(5, 0, 0), Vec3(1, 0, 0)).empty());
+}
+
+TEST_CASE("patch table rejects degenerate patches") {
+    PatchTable t;
+    const std::vector<Vec3> line{{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
+    CHECK_THROWS_AS(t.add(line), Error);
+    const std::vector<Vec3> nan{{0, 0, 0}, {1, 0, 0}, {0, NAN, 0}};
+    CHECK_THROWS_AS(t.add(nan), Error);
+}
+
+TEST_CASE("build_mesh carries materials to faces and rejects bad input") {
+    Scene<Rgb> s;
+    s.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    s.faces = {{0, 1, 2}, {0, 2, 3}};
+    s.face_material = {0, 1};
+    s.materials = {{Rgb(0.0f), Rgb(0.5f), "grey"}, {Rgb(1.0f), Rgb(0.0f), "light"}};
+    const auto mesh = build_mesh(s);
+    CHECK(mesh.n_faces() == 2);
+    CHECK(face_emission(mesh)[1] == Rgb(1.0f));
+    CHECK(make_patch_table(mesh).area(0) == doctest::Approx(0.5));
+
+    auto bad = s;
+    bad.materials[0].reflectance = Rgb(1.0f);
+    CHECK_THROWS_WITH_AS(build_mesh(bad), doctest::Contains("material 0"), Error);
+    bad = s;
+    bad.faces[1] = {0, 2, 7};
+    CHECK_THROWS_WITH_AS(build_mesh(bad), doctest::Contains("face 1"), Error);
+    bad = s;
+    bad.positions.push_back({2, 0, 0});
+    bad.faces[1] = {0, 1, 4};
+    CHECK_THROWS_WITH_AS(build_mesh(bad), doctest::Contains("zero area"), Error);
+}
+
+TEST_CASE("check_matrix measures reciprocity and row sums") {
+    DenseMatrix F(2);
+    F.row(0)[1] = 1.0f;
+    F.row(1)[0] = 0.5f;
+    const std::vector<double> area{1.0, 2.0};
+    const auto c = check_matrix(F, area);
+    CHECK(c.reciprocity_error == doctest::Approx(0.0));
+    CHECK(c.min_row_sum == doctest::Approx(0.5));
+    CHECK(c.max_row_sum == doctest::Approx(1.0));
+    F.row(1)[0] = 0.25f;
+    CHECK(check_matrix(F, area).reciprocity_error == doctest::Approx(0.5));
+}
