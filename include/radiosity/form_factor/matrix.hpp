@@ -93,7 +93,7 @@ private:
 
 namespace detail {
 /// Runs body(i) for every row i, in parallel with OpenMP when available, reporting progress from
-/// the first thread only and stopping (by throwing Cancelled) when the callback asks to.
+/// the first thread only (the callback need not be thread-safe) and stopping (by throwing Cancelled) when the callback asks to.
 template <class Body>
 void for_each_row(std::size_t n, const ProgressCallback& progress, Body&& body) {
     std::atomic<std::size_t> done{0};
@@ -111,7 +111,7 @@ void for_each_row(std::size_t n, const ProgressCallback& progress, Body&& body) 
 #else
         const bool reporter = true;
 #endif
-        if (reporter && (d % 16 == 0 || d == n) &&
+        if (reporter &&
             !detail::report(progress, "form factors", static_cast<double>(d) / static_cast<double>(n)))
             cancel = true;
     }

@@ -1,0 +1,241 @@
+// radiosity: the command-line program. Solves a scene (an OBJ file or a built-in scene) by the
+// radiosity method and writes a picture, a PLY mesh and CSV dumps. With no arguments it renders
+// the built-in Cornell box into cornell_box.png. Errors: one line on stderr, exit status 1
+// (2 for a bad command line).
+
+#include <radiosity/radiosity.hpp>
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <unistd.h>
+
+namespace {
+
+using Colour = radiosity::Rgb;
+
+/// Everything the command line can set.
+struct Args {
+    std::string scene = "cornell";
+    std::string form_factor = "hemicube";
+    std::string solver = "gauss-seidel";
+    double max_edge = -1.0;  // negative: choose from the scene size
+    double tolerance = 1e-4;
+    std::string image;
+    int width = 512, height = 512;
+    bool flat = false;
+    double exposure = 0.0;
+    int resolution = 0;  // 0: the hemicube's default
+    std::string ply, dump_form_factors, dump_patches;
+    bool quiet = false;
+};
+
+/// A progress bar on stderr: redrawn in place on a terminal, one line per phase otherwise.
+class ProgressBar {
+public:
+    explicit ProgressBar(bool quiet) : quiet_(quiet), tty_(isatty(STDERR_FILENO) != 0) {}
+
+    bool operator()(const radiosity::Progress& p) {
+        if (quiet_) return true;
+        if (tty_) {
+            const int filled = static_cast<int>(std::lround(30.0 * std::clamp(p.fraction, 0.0, 1.0)));
+            std::fprintf(stderr, "\r%-13s [%s%s] %3.0f%%", std::string(p.phase).c_str(),
+                         std::string(static_cast<std::size_t>(filled), '#').c_str(),
+                         std::string(static_cast<std::size_t>(30 - filled), ' ').c_str(),
+                         100.0 * p.fraction);
+            if (p.residual > 0.0) std::fprintf(stderr, " residual %.2e", p.residual);
+            std::fflush(stderr);
+        } else if (p.phase != phase_) {
+            std::fprintf(stderr, "%s...\n", std::string(p.phase).c_str());
+        }
+        phase_ = p.phase;
+        return true;
+    }
+    /// Ends the bar's line.
+    void finish() const {
+        if (!quiet_ && tty_ && !phase_.empty()) std::fputc('\n', stderr);
+    }
+
+private:
+    bool quiet_, tty_;
+    std::string phase_;
+};
+
+/// Loads the scene: a built-in name or an OBJ file.
+radiosity::Mesh<Colour> load_scene(const std::string& scene) {
+    const auto names = radiosity::builtin_scene_names();
+    if (std::find(names.begin(), names.end(), scene) != names.end())
+        return radiosity::build_mesh(radiosity::builtin_scene<Colour>(scene));
+    if (!std::filesystem::exists(scene))
+        throw radiosity::Error(scene + ": no such file, and not a built-in scene");
+    return radiosity::build_mesh(radiosity::read_obj<Colour>(scene));
+}
+
+/// Diagonal of the scene's bounding box.
+double scene_diagonal(const radiosity::Mesh<Colour>& mesh) {
+    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (auto v : mesh.vertices()) {
+        const auto& p = mesh.point(v);
+        lo = glm::min(lo, glm::dvec3(p[0], p[1], p[2]));
+        hi = glm::max(hi, glm::dvec3(p[0], p[1], p[2]));
+    }
+    return glm::length(hi - lo);
+}
+
+/// The camera: the published one for the Cornell box, else one that frames the bounding box
+/// from its -z side (the Cornell box's convention).
+radiosity::Camera default_camera(const std::string& scene, const radiosity::Mesh<Colour>& mesh) {
+    const double fov = 2.0 * std::atan(12.5 / 35.0) * 180.0 / M_PI;  // 25 mm film, 35 mm lens
+    if (scene == "cornell") return {{278.0, 273.0, -800.0}, {278.0, 273.0, 0.0}, {0.0, 1.0, 0.0}, fov};
+    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (auto v : mesh.vertices()) {
+        const auto& p = mesh.point(v);
+        lo = glm::min(lo, glm::dvec3(p[0], p[1], p[2]));
+        hi = glm::max(hi, glm::dvec3(p[0], p[1], p[2]));
+    }
+    const glm::dvec3 c = 0.5 * (lo + hi);
+    const double radius = 0.5 * glm::length(hi - lo);
+    const double distance = radius / std::sin(0.5 * fov * M_PI / 180.0);
+    return {c - glm::dvec3(0.0, 0.0, distance), c, {0.0, 1.0, 0.0}, fov};
+}
+
+void write_form_factors(const std::string& path, const radiosity::DenseMatrix& F) {
+    std::ofstream out(path);
+    if (!out) throw radiosity::Error(path + ": cannot open for writing");
+    char buf[32];
+    for (std::size_t i = 0; i < F.size(); ++i) {
+        for (std::size_t j = 0; j < F.size(); ++j) {
+            std::snprintf(buf, sizeof buf, "%.9g", static_cast<double>(F(i, j)));
+            out << (j ? "," : "") << buf;
+        }
+        out << '\n';
+    }
+    if (!out) throw radiosity::Error(path + ": write failed");
+}
+
+void write_patches(const std::string& path, const radiosity::SolveResult<Colour>& r) {
+    std::ofstream out(path);
+    if (!out) throw radiosity::Error(path + ": cannot open for writing");
+    out << "patch,area,cx,cy,cz,nx,ny,nz,E_r,E_g,E_b,R_r,R_g,R_b,B_r,B_g,B_b\n";
+    char buf[64];
+    auto num = [&](double x) {
+        std::snprintf(buf, sizeof buf, ",%.9g", x);
+        out << buf;
+    };
+    for (auto f : r.mesh.faces()) {
+        const auto i = static_cast<std::size_t>(f.idx());
+        const auto& d = r.mesh.data(f);
+        out << i;
+        num(r.patches.area(i));
+        for (int k = 0; k < 3; ++k) num(r.patches.centroid(i)[k]);
+        for (int k = 0; k < 3; ++k) num(r.patches.normal(i)[k]);
+        for (const Colour* c : {&d.emission, &d.reflectance, &d.radiosity})
+            for (std::size_t k = 0; k < 3; ++k) num(band(*c, k));
+        out << '\n';
+    }
+    if (!out) throw radiosity::Error(path + ": write failed");
+}
+
+int run(const Args& a, bool no_arguments) {
+    const auto t0 = std::chrono::steady_clock::now();
+    ProgressBar bar(a.quiet);
+    const auto scene = load_scene(a.scene);
+
+    radiosity::SolveOptions o;
+    o.form_factor = radiosity::parse_form_factor_kind(a.form_factor);
+    o.solver = radiosity::parse_solver_kind(a.solver);
+    o.subdivision.max_edge = a.max_edge >= 0.0 ? a.max_edge : scene_diagonal(scene) / 30.0;
+    o.tolerance = a.tolerance;
+    if (a.resolution > 0) o.hemicube.resolution = a.resolution;
+    o.keep_form_factors = !a.dump_form_factors.empty();
+    o.progress = [&bar](const radiosity::Progress& p) { return bar(p); };
+    const auto result = radiosity::solve(scene, o);
+    bar.finish();
+
+    if (o.keep_form_factors) write_form_factors(a.dump_form_factors, *result.form_factors);
+    if (!a.dump_patches.empty()) write_patches(a.dump_patches, result);
+
+    const std::string image = no_arguments ? "cornell_box.png" : a.image;
+    const radiosity::ShadedMesh shaded =
+        a.flat ? radiosity::flat_shading(result.mesh) : radiosity::smooth_shading(result.mesh);
+    radiosity::ToneMapOptions tone;
+    tone.stops = a.exposure;
+    if (!image.empty()) {
+        const auto picture = radiosity::render(shaded, default_camera(a.scene, result.mesh),
+                                               {.width = a.width, .height = a.height});
+        radiosity::write_png(picture, image, tone);
+    }
+    if (!a.ply.empty())
+        radiosity::write_ply(shaded, a.ply, radiosity::exposure_scale(shaded.colours, tone) / M_PI);
+
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const auto& r = result.report;
+    std::fprintf(stderr,
+                 "%zu patches; form factors (%s) %.2f s; %s: %zu iterations, residual %.2e, %s "
+                 "in %.2f s; total %.2f s%s%s\n",
+                 result.patches.size(), a.form_factor.c_str(), result.form_factor_seconds,
+                 r.solver.c_str(), r.iterations, r.residual,
+                 r.converged ? "converged" : "NOT converged", r.seconds, seconds,
+                 image.empty() ? "" : "; wrote ", image.c_str());
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Args a;
+    CLI::App app{"radiosity: diffuse global illumination by the radiosity method.\n"
+                 "With no arguments, renders the built-in Cornell box into cornell_box.png.",
+                 "radiosity"};
+    app.failure_message(CLI::FailureMessage::simple);
+    app.add_option("scene", a.scene, "an OBJ file (Kd: reflectance, Ke: emission) or a built-in scene: " +
+                                         [] {
+                                             std::string s;
+                                             for (const auto& n : radiosity::builtin_scene_names())
+                                                 s += (s.empty() ? "" : ", ") + n;
+                                             return s;
+                                         }())
+        ->capture_default_str();
+    app.add_option("--form-factor", a.form_factor, "form-factor method")
+        ->check(CLI::IsMember({"analytic", "hemicube"}))
+        ->capture_default_str();
+    app.add_option("--solver", a.solver, "solver")
+        ->check(CLI::IsMember({"jacobi", "gauss-seidel", "progressive", "direct"}))
+        ->capture_default_str();
+    app.add_option("--max-edge", a.max_edge,
+                   "subdivide patches to this edge length in scene units (0 keeps the input "
+                   "faces; default: 1/30 of the scene's bounding-box diagonal)")
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--tolerance", a.tolerance, "relative residual at which the solver stops")
+        ->check(CLI::PositiveNumber)
+        ->capture_default_str();
+    app.add_option("--resolution", a.resolution, "hemicube resolution in pixels (default 128)")
+        ->check(CLI::Range(8, 4096));
+    app.add_option("--image", a.image, "write a PNG picture (Cornell box camera, or one that frames the scene)");
+    app.add_option("--width", a.width, "image width")->check(CLI::Range(1, 16384))->capture_default_str();
+    app.add_option("--height", a.height, "image height")->check(CLI::Range(1, 16384))->capture_default_str();
+    app.add_option("--exposure", a.exposure, "exposure compensation in stops")->capture_default_str();
+    app.add_flag("--flat", a.flat, "flat shading (one colour per patch) instead of smooth");
+    app.add_option("--ply", a.ply, "write the shaded mesh as PLY with 8-bit sRGB vertex colours");
+    app.add_option("--dump-form-factors", a.dump_form_factors, "write F as CSV: line i holds F_ij");
+    app.add_option("--dump-patches", a.dump_patches,
+                   "write patches as CSV: patch,area,cx,cy,cz,nx,ny,nz,E_*,R_*,B_*");
+    app.add_flag("--quiet", a.quiet, "no progress bar");
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    }
+    try {
+        return run(a, argc == 1);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "radiosity: error: %s\n", e.what());
+        return 1;
+    }
+}

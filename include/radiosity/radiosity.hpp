@@ -1,0 +1,32 @@
+#pragma once
+/// @file radiosity.hpp  Umbrella header: includes every public header of the library.
+
+#include <radiosity/concepts.hpp>
+#include <radiosity/config.hpp>
+#include <radiosity/error.hpp>
+#include <radiosity/form_factor/analytic.hpp>
+#include <radiosity/form_factor/hemicube.hpp>
+#include <radiosity/form_factor/matrix.hpp>
+#include <radiosity/geometry/polygon.hpp>
+#include <radiosity/geometry/raster.hpp>
+#include <radiosity/geometry/vec.hpp>
+#include <radiosity/io/image.hpp>
+#include <radiosity/io/obj.hpp>
+#include <radiosity/io/ply.hpp>
+#include <radiosity/io/scenes.hpp>
+#include <radiosity/mesh/mesh.hpp>
+#include <radiosity/mesh/patch_table.hpp>
+#include <radiosity/mesh/subdivide.hpp>
+#include <radiosity/progress.hpp>
+#include <radiosity/shading/camera.hpp>
+#include <radiosity/shading/shaded_mesh.hpp>
+#include <radiosity/shading/tonemap.hpp>
+#include <radiosity/shading/vertex_shading.hpp>
+#include <radiosity/solve.hpp>
+#include <radiosity/solver/direct.hpp>
+#include <radiosity/solver/gauss_seidel.hpp>
+#include <radiosity/solver/jacobi.hpp>
+#include <radiosity/solver/progressive.hpp>
+#include <radiosity/solver/system.hpp>
+#include <radiosity/spectrum.hpp>
+#include <radiosity/version.hpp>

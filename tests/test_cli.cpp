@@ -1,0 +1,146 @@
+// The radiosity program end to end: the dumps of a two-square OBJ reproduce the closed form
+// (Howell C-11), and bad input gives a one-line error and a non-zero exit status.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Run {
+    int status = -1;
+    std::string err;
+};
+
+const fs::path& work_dir() {
+    static const fs::path dir = [] {
+        fs::path d = fs::temp_directory_path() / ("radiosity_cli_test_" + std::to_string(::getpid()));
+        fs::create_directories(d);
+        return d;
+    }();
+    return dir;
+}
+
+std::string data(const std::string& name) { return std::string(RADIOSITY_TEST_DATA_DIR) + "/" + name; }
+std::string out(const std::string& name) { return (work_dir() / name).string(); }
+
+/// Runs the program with the arguments; captures stderr and the exit status.
+Run run(const std::string& args) {
+    const std::string err = out("stderr.txt");
+    const std::string cmd = std::string("'") + RADIOSITY_CLI + "' " + args + " --quiet 2> '" + err + "' > /dev/null";
+    const int raw = std::system(cmd.c_str());
+    Run r;
+    r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    std::ifstream in(err);
+    std::stringstream s;
+    s << in.rdbuf();
+    r.err = s.str();
+    return r;
+}
+
+std::vector<std::vector<double>> read_csv(const std::string& path, bool skip_header) {
+    std::ifstream in(path);
+    REQUIRE(in);
+    std::vector<std::vector<double>> rows;
+    std::string line;
+    if (skip_header) std::getline(in, line);
+    while (std::getline(in, line)) {
+        std::vector<double> row;
+        std::stringstream ls(line);
+        std::string cell;
+        while (std::getline(ls, cell, ',')) row.push_back(std::stod(cell));
+        rows.push_back(row);
+    }
+    return rows;
+}
+
+int line_count(const std::string& s) {
+    int n = 0;
+    for (char c : s) n += c == '\n';
+    return n;
+}
+
+/// A bad run: non-zero status, exactly one line on stderr, naming `what`.
+void check_one_line_error(const std::string& args, const std::string& what) {
+    const Run r = run(args);
+    CHECK(r.status != 0);
+    CHECK(line_count(r.err) == 1);
+    CHECK_MESSAGE(r.err.find(what) != std::string::npos, r.err);
+}
+
+constexpr double c11_unit = 0.199824895698;  // Howell C-11, a = b = c = 1 (cases.json)
+
+}  // namespace
+
+TEST_CASE("two-square OBJ: the dumped form factors reproduce Howell C-11") {
+    const Run r = run("'" + data("cli_two_squares.obj") +
+                      "' --form-factor analytic --solver direct --max-edge 0 --dump-form-factors '" +
+                      out("ff.csv") + "' --dump-patches '" + out("patches.csv") + "'");
+    REQUIRE_MESSAGE(r.status == 0, r.err);
+    const auto F = read_csv(out("ff.csv"), false);
+    REQUIRE(F.size() == 2);
+    REQUIRE(F[0].size() == 2);
+    CHECK(F[0][0] == 0.0);
+    CHECK(F[1][1] == 0.0);
+    CHECK(std::abs(F[0][1] - c11_unit) / c11_unit < 1e-5);
+    CHECK(std::abs(F[1][0] - c11_unit) / c11_unit < 1e-5);
+}
+
+TEST_CASE("two-square OBJ: the dumped radiosities solve the two-patch system exactly") {
+    const Run r = run("'" + data("cli_two_squares.obj") + "' --form-factor analytic --solver direct --max-edge 0 --dump-patches '" +
+                      out("patches2.csv") + "'");
+    REQUIRE_MESSAGE(r.status == 0, r.err);
+    const auto P = read_csv(out("patches2.csv"), true);
+    REQUIRE(P.size() == 2);
+    // columns: patch,area,cx,cy,cz,nx,ny,nz,E_rgb(8..10),R_rgb(11..13),B_rgb(14..16)
+    CHECK(P[0][1] == doctest::Approx(1.0));
+    CHECK(P[0][7] == doctest::Approx(1.0));   // lower square faces +z
+    CHECK(P[1][7] == doctest::Approx(-1.0));  // upper square faces -z
+    const double E[3] = {1, 2, 3}, R0 = 0.5, R1[3] = {0.5, 0.25, 0.75};
+    for (int k = 0; k < 3; ++k) {
+        // B0 = E + R0 F B1, B1 = R1 F B0  =>  B0 = E / (1 - R0 R1 F^2)
+        const double B0 = E[k] / (1.0 - R0 * R1[k] * c11_unit * c11_unit);
+        const double B1 = R1[k] * c11_unit * B0;
+        CHECK(std::abs(P[0][14 + k] - B0) / B0 < 1e-5);
+        CHECK(std::abs(P[1][14 + k] - B1) / B1 < 1e-5);
+    }
+}
+
+TEST_CASE("a missing scene file is a one-line error naming it") {
+    check_one_line_error("'" + out("no_such_scene.obj") + "'", "no_such_scene.obj");
+}
+
+TEST_CASE("an unknown option is a one-line error") {
+    check_one_line_error("--no-such-option", "no-such-option");
+}
+
+TEST_CASE("a reflectance of 1 or more is a one-line error naming the file") {
+    check_one_line_error("'" + data("cli_bad_reflectance.obj") + "' --max-edge 0", "cli_bad_reflectance");
+}
+
+TEST_CASE("a zero-area face is a one-line error naming the face") {
+    check_one_line_error("'" + data("cli_zero_area.obj") + "' --max-edge 0", "zero area");
+}
+
+TEST_CASE("a face index out of range is a one-line error") {
+    check_one_line_error("'" + data("cli_bad_index.obj") + "' --max-edge 0", "cli_bad_index");
+}
+
+TEST_CASE("an unwritable output is a one-line error naming the path") {
+    check_one_line_error("'" + data("cli_two_squares.obj") + "' --max-edge 0 --image /no/such/dir/x.png",
+                         "/no/such/dir/x.png");
+}
+
+TEST_CASE("a NaN tolerance is rejected") {
+    const Run r = run("cornell --tolerance nan");
+    CHECK(r.status != 0);
+    CHECK(line_count(r.err) == 1);
+}
