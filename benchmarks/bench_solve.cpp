@@ -27,10 +27,14 @@ void solve_cornell(benchmark::State& state, double max_edge, radiosity::FormFact
 }  // namespace
 
 BENCHMARK_CAPTURE(solve_cornell, hemicube_1k, edge_1k, radiosity::FormFactorKind::hemicube)
-    ->Unit(benchmark::kSecond)->Iterations(1);
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);
 BENCHMARK_CAPTURE(solve_cornell, hemicube_4k, edge_4k, radiosity::FormFactorKind::hemicube)
-    ->Unit(benchmark::kSecond)->Iterations(1);
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);
 BENCHMARK_CAPTURE(solve_cornell, hemicube_16k, edge_16k, radiosity::FormFactorKind::hemicube)
-    ->Unit(benchmark::kSecond)->Iterations(1);
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);
 BENCHMARK_CAPTURE(solve_cornell, analytic_1k, edge_1k, radiosity::FormFactorKind::analytic)
-    ->Unit(benchmark::kSecond)->Iterations(1);
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);

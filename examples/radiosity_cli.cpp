@@ -38,13 +38,14 @@ struct Args {
 
 /// A progress bar on stderr: redrawn in place on a terminal, one line per phase otherwise.
 class ProgressBar {
-public:
+  public:
     explicit ProgressBar(bool quiet) : quiet_(quiet), tty_(isatty(STDERR_FILENO) != 0) {}
 
     bool operator()(const radiosity::Progress& p) {
         if (quiet_) return true;
         if (tty_) {
-            const int filled = static_cast<int>(std::lround(30.0 * std::clamp(p.fraction, 0.0, 1.0)));
+            const int filled =
+                static_cast<int>(std::lround(30.0 * std::clamp(p.fraction, 0.0, 1.0)));
             std::fprintf(stderr, "\r%-13s [%s%s] %3.0f%%", std::string(p.phase).c_str(),
                          std::string(static_cast<std::size_t>(filled), '#').c_str(),
                          std::string(static_cast<std::size_t>(30 - filled), ' ').c_str(),
@@ -62,7 +63,7 @@ public:
         if (!quiet_ && tty_ && !phase_.empty()) std::fputc('\n', stderr);
     }
 
-private:
+  private:
     bool quiet_, tty_;
     std::string phase_;
 };
@@ -92,7 +93,8 @@ double scene_diagonal(const radiosity::Mesh<Colour>& mesh) {
 /// from its -z side (the Cornell box's convention).
 radiosity::Camera default_camera(const std::string& scene, const radiosity::Mesh<Colour>& mesh) {
     const double fov = 2.0 * std::atan(12.5 / 35.0) * 180.0 / M_PI;  // 25 mm film, 35 mm lens
-    if (scene == "cornell") return {{278.0, 273.0, -800.0}, {278.0, 273.0, 0.0}, {0.0, 1.0, 0.0}, fov};
+    if (scene == "cornell")
+        return {{278.0, 273.0, -800.0}, {278.0, 273.0, 0.0}, {0.0, 1.0, 0.0}, fov};
     glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
     for (auto v : mesh.vertices()) {
         const auto& p = mesh.point(v);
@@ -174,7 +176,8 @@ int run(const Args& a, bool no_arguments) {
     if (!a.ply.empty())
         radiosity::write_ply(shaded, a.ply, radiosity::exposure_scale(shaded.colours, tone) / M_PI);
 
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const auto& r = result.report;
     std::fprintf(stderr,
                  "%zu patches; form factors (%s) %.2f s; %s: %zu iterations, residual %.2e, %s "
@@ -190,17 +193,20 @@ int run(const Args& a, bool no_arguments) {
 
 int main(int argc, char** argv) {
     Args a;
-    CLI::App app{"radiosity: diffuse global illumination by the radiosity method.\n"
-                 "With no arguments, renders the built-in Cornell box into cornell_box.png.",
-                 "radiosity"};
+    CLI::App app{
+        "radiosity: diffuse global illumination by the radiosity method.\n"
+        "With no arguments, renders the built-in Cornell box into cornell_box.png.",
+        "radiosity"};
     app.failure_message(CLI::FailureMessage::simple);
-    app.add_option("scene", a.scene, "an OBJ file (Kd: reflectance, Ke: emission) or a built-in scene: " +
-                                         [] {
-                                             std::string s;
-                                             for (const auto& n : radiosity::builtin_scene_names())
-                                                 s += (s.empty() ? "" : ", ") + n;
-                                             return s;
-                                         }())
+    app.add_option(
+           "scene", a.scene,
+           "an OBJ file (Kd: reflectance, Ke: emission) or a built-in scene: " +
+               [] {
+                   std::string s;
+                   for (const auto& n : radiosity::builtin_scene_names())
+                       s += (s.empty() ? "" : ", ") + n;
+                   return s;
+               }())
         ->capture_default_str();
     app.add_option("--form-factor", a.form_factor, "form-factor method")
         ->check(CLI::IsMember({"analytic", "hemicube"}))
@@ -217,10 +223,16 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--resolution", a.resolution, "hemicube resolution in pixels (default 128)")
         ->check(CLI::Range(8, 4096));
-    app.add_option("--image", a.image, "write a PNG picture (Cornell box camera, or one that frames the scene)");
-    app.add_option("--width", a.width, "image width")->check(CLI::Range(1, 16384))->capture_default_str();
-    app.add_option("--height", a.height, "image height")->check(CLI::Range(1, 16384))->capture_default_str();
-    app.add_option("--exposure", a.exposure, "exposure compensation in stops")->capture_default_str();
+    app.add_option("--image", a.image,
+                   "write a PNG picture (Cornell box camera, or one that frames the scene)");
+    app.add_option("--width", a.width, "image width")
+        ->check(CLI::Range(1, 16384))
+        ->capture_default_str();
+    app.add_option("--height", a.height, "image height")
+        ->check(CLI::Range(1, 16384))
+        ->capture_default_str();
+    app.add_option("--exposure", a.exposure, "exposure compensation in stops")
+        ->capture_default_str();
     app.add_flag("--flat", a.flat, "flat shading (one colour per patch) instead of smooth");
     app.add_option("--ply", a.ply, "write the shaded mesh as PLY with 8-bit sRGB vertex colours");
     app.add_option("--dump-form-factors", a.dump_form_factors, "write F as CSV: line i holds F_ij");

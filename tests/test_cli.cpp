@@ -22,20 +22,26 @@ struct Run {
 
 const fs::path& work_dir() {
     static const fs::path dir = [] {
-        fs::path d = fs::temp_directory_path() / ("radiosity_cli_test_" + std::to_string(::getpid()));
+        fs::path d =
+            fs::temp_directory_path() / ("radiosity_cli_test_" + std::to_string(::getpid()));
         fs::create_directories(d);
         return d;
     }();
     return dir;
 }
 
-std::string data(const std::string& name) { return std::string(RADIOSITY_TEST_DATA_DIR) + "/" + name; }
-std::string out(const std::string& name) { return (work_dir() / name).string(); }
+std::string data(const std::string& name) {
+    return std::string(RADIOSITY_TEST_DATA_DIR) + "/" + name;
+}
+std::string out(const std::string& name) {
+    return (work_dir() / name).string();
+}
 
 /// Runs the program with the arguments; captures stderr and the exit status.
 Run run(const std::string& args) {
     const std::string err = out("stderr.txt");
-    const std::string cmd = std::string("'") + RADIOSITY_CLI + "' " + args + " --quiet 2> '" + err + "' > /dev/null";
+    const std::string cmd =
+        std::string("'") + RADIOSITY_CLI + "' " + args + " --quiet 2> '" + err + "' > /dev/null";
     const int raw = std::system(cmd.c_str());
     Run r;
     r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
@@ -81,9 +87,10 @@ constexpr double c11_unit = 0.199824895698;  // Howell C-11, a = b = c = 1 (case
 }  // namespace
 
 TEST_CASE("two-square OBJ: the dumped form factors reproduce Howell C-11") {
-    const Run r = run("'" + data("cli_two_squares.obj") +
-                      "' --form-factor analytic --solver direct --max-edge 0 --dump-form-factors '" +
-                      out("ff.csv") + "' --dump-patches '" + out("patches.csv") + "'");
+    const Run r =
+        run("'" + data("cli_two_squares.obj") +
+            "' --form-factor analytic --solver direct --max-edge 0 --dump-form-factors '" +
+            out("ff.csv") + "' --dump-patches '" + out("patches.csv") + "'");
     REQUIRE_MESSAGE(r.status == 0, r.err);
     const auto F = read_csv(out("ff.csv"), false);
     REQUIRE(F.size() == 2);
@@ -95,7 +102,8 @@ TEST_CASE("two-square OBJ: the dumped form factors reproduce Howell C-11") {
 }
 
 TEST_CASE("two-square OBJ: the dumped radiosities solve the two-patch system exactly") {
-    const Run r = run("'" + data("cli_two_squares.obj") + "' --form-factor analytic --solver direct --max-edge 0 --dump-patches '" +
+    const Run r = run("'" + data("cli_two_squares.obj") +
+                      "' --form-factor analytic --solver direct --max-edge 0 --dump-patches '" +
                       out("patches2.csv") + "'");
     REQUIRE_MESSAGE(r.status == 0, r.err);
     const auto P = read_csv(out("patches2.csv"), true);
@@ -123,7 +131,8 @@ TEST_CASE("an unknown option is a one-line error") {
 }
 
 TEST_CASE("a reflectance of 1 or more is a one-line error naming the file") {
-    check_one_line_error("'" + data("cli_bad_reflectance.obj") + "' --max-edge 0", "cli_bad_reflectance");
+    check_one_line_error("'" + data("cli_bad_reflectance.obj") + "' --max-edge 0",
+                         "cli_bad_reflectance");
 }
 
 TEST_CASE("a zero-area face is a one-line error naming the face") {
@@ -135,8 +144,9 @@ TEST_CASE("a face index out of range is a one-line error") {
 }
 
 TEST_CASE("an unwritable output is a one-line error naming the path") {
-    check_one_line_error("'" + data("cli_two_squares.obj") + "' --max-edge 0 --image /no/such/dir/x.png",
-                         "/no/such/dir/x.png");
+    check_one_line_error(
+        "'" + data("cli_two_squares.obj") + "' --max-edge 0 --image /no/such/dir/x.png",
+        "/no/such/dir/x.png");
 }
 
 TEST_CASE("a NaN tolerance is rejected") {

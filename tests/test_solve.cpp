@@ -15,7 +15,8 @@ namespace {
 /// The unit cube as a closed scene, faces pointing inwards, one material for all.
 Scene<Rgb> furnace_cube(float emission, float rho) {
     Scene<Rgb> s;
-    s.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    s.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                   {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
     // counter-clockwise seen from inside the cube
     s.faces = {{0, 1, 2, 3}, {4, 7, 6, 5}, {0, 3, 7, 4}, {1, 5, 6, 2}, {0, 4, 5, 1}, {3, 2, 6, 7}};
     s.face_material.assign(6, 0);
@@ -48,7 +49,8 @@ TEST_CASE("every solver agrees with the direct solve on a coarse Cornell box to 
     o.solver = SolverKind::direct;
     const auto reference = solve(scene, o);
     REQUIRE(reference.patches.size() > 50);
-    for (SolverKind kind : {SolverKind::jacobi, SolverKind::gauss_seidel, SolverKind::progressive}) {
+    for (SolverKind kind :
+         {SolverKind::jacobi, SolverKind::gauss_seidel, SolverKind::progressive}) {
         o.solver = kind;
         const auto r = solve(scene, o);
         CAPTURE(r.report.solver);
@@ -72,7 +74,8 @@ TEST_CASE("a subdivided furnace gives B = E/(1 - rho) with both form-factor meth
         const auto check = check_matrix(*r.form_factors, r.patches.areas());
         CHECK(check.min_row_sum > 0.999);
         CHECK(check.max_row_sum < 1.001);
-        const double lo = 1.0 / (1.0 - 0.5 * check.min_row_sum), hi = 1.0 / (1.0 - 0.5 * check.max_row_sum);
+        const double lo = 1.0 / (1.0 - 0.5 * check.min_row_sum),
+                     hi = 1.0 / (1.0 - 0.5 * check.max_row_sum);
         for (auto f : r.mesh.faces())
             for (std::size_t k = 0; k < 3; ++k) {
                 CHECK(band(r.mesh.data(f).radiosity, k) >= doctest::Approx(lo).epsilon(1e-6));

@@ -33,7 +33,8 @@ concept FormFactorMethod = RowSource<M> && requires(M& method, const PatchTable&
 /// computing the whole row (analytic and ray-cast have it; the hemicube, which sees all patches
 /// at once, does not).
 template <class M>
-concept PairFormFactor = FormFactorMethod<M> && requires(const M& method, std::size_t i, std::size_t j) {
+concept PairFormFactor = FormFactorMethod<M> &&
+    requires(const M& method, std::size_t i, std::size_t j) {
     { method.pair(i, j) } -> std::convertible_to<double>;
 };
 

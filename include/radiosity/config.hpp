@@ -15,10 +15,10 @@
 #define RADIOSITY_ASSERT(cond) ((void)0)
 #else
 /// Checks an internal invariant; a failure is a bug in the library, so it aborts with the place.
-#define RADIOSITY_ASSERT(cond)                                                                 \
-    ((cond) ? (void)0                                                                          \
+#define RADIOSITY_ASSERT(cond)                                                                   \
+    ((cond) ? (void)0                                                                            \
             : (std::fprintf(stderr, "radiosity: internal assertion failed: %s (%s:%d)\n", #cond, \
-                            __FILE__, __LINE__),                                               \
+                            __FILE__, __LINE__),                                                 \
                std::abort()))
 #endif
 #endif

@@ -30,7 +30,7 @@ enum class SolverKind { jacobi, gauss_seidel, progressive, direct };
 
 /// Options of solve(): the meshing, the form-factor method, the solver and their settings.
 struct SolveOptions {
-    SubdivisionOptions subdivision{};                    ///< max edge length (0: keep faces)
+    SubdivisionOptions subdivision{};                       ///< max edge length (0: keep faces)
     FormFactorKind form_factor = FormFactorKind::hemicube;  ///< how F is computed
     SolverKind solver = SolverKind::gauss_seidel;           ///< how B = E + R F B is solved
     double tolerance = 1e-4;         ///< relative residual (or unshot energy) to stop at
@@ -45,11 +45,11 @@ struct SolveOptions {
 /// report, the time spent on form factors and, if asked for, the matrix.
 template <SpectrumType S>
 struct SolveResult {
-    Mesh<S> mesh;                            ///< subdivided mesh, B stored in each face
-    PatchTable patches;                      ///< patch i = face i of mesh
-    Report report;                           ///< the solver's report
-    double form_factor_seconds = 0.0;        ///< time spent assembling F (0 for progressive)
-    std::optional<DenseMatrix> form_factors; ///< F, when keep_form_factors was set
+    Mesh<S> mesh;                             ///< subdivided mesh, B stored in each face
+    PatchTable patches;                       ///< patch i = face i of mesh
+    Report report;                            ///< the solver's report
+    double form_factor_seconds = 0.0;         ///< time spent assembling F (0 for progressive)
+    std::optional<DenseMatrix> form_factors;  ///< F, when keep_form_factors was set
 };
 
 /// Parses a form-factor method name: "analytic" or "hemicube". Throws Error otherwise.

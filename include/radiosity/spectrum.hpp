@@ -24,8 +24,8 @@ struct Spectrum {
     constexpr explicit Spectrum(float all) { v.fill(all); }
     /// One value per band, e.g. Rgb{0.7f, 0.2f, 0.1f}.
     template <std::convertible_to<float>... T>
-        requires(sizeof...(T) == N && N > 1)
-    constexpr Spectrum(T... bands) : v{static_cast<float>(bands)...} {}
+    requires(sizeof...(T) == N && N > 1) constexpr Spectrum(T... bands)
+        : v{static_cast<float>(bands)...} {}
 
     constexpr float& operator[](std::size_t k) { return v[k]; }
     constexpr float operator[](std::size_t k) const { return v[k]; }
@@ -64,20 +64,26 @@ template <std::size_t N>
 inline constexpr std::size_t band_count<Spectrum<N>> = N;
 
 /// Band k of a colour value (float has one band).
-constexpr float band(float s, std::size_t) { return s; }
+constexpr float band(float s, std::size_t) {
+    return s;
+}
 template <std::size_t N>
 constexpr float band(const Spectrum<N>& s, std::size_t k) {
     return s.v[k];
 }
 /// Sets band k of a colour value.
-constexpr void set_band(float& s, std::size_t, float x) { s = x; }
+constexpr void set_band(float& s, std::size_t, float x) {
+    s = x;
+}
 template <std::size_t N>
 constexpr void set_band(Spectrum<N>& s, std::size_t k, float x) {
     s.v[k] = x;
 }
 
 /// Largest band: the norm used by convergence tests (max over bands of |x|).
-inline float max_abs(float s) { return std::abs(s); }
+inline float max_abs(float s) {
+    return std::abs(s);
+}
 template <std::size_t N>
 float max_abs(const Spectrum<N>& s) {
     float m = 0.0f;
@@ -86,7 +92,9 @@ float max_abs(const Spectrum<N>& s) {
 }
 
 /// Mean over bands, a grey summary of a colour (e.g. for choosing the brightest shooter).
-inline float mean_band(float s) { return s; }
+inline float mean_band(float s) {
+    return s;
+}
 template <std::size_t N>
 float mean_band(const Spectrum<N>& s) {
     float t = 0.0f;
@@ -95,7 +103,9 @@ float mean_band(const Spectrum<N>& s) {
 }
 
 /// True when every band is a finite number.
-inline bool all_finite(float s) { return std::isfinite(s); }
+inline bool all_finite(float s) {
+    return std::isfinite(s);
+}
 template <std::size_t N>
 bool all_finite(const Spectrum<N>& s) {
     for (float x : s.v)
@@ -109,8 +119,8 @@ template <class S>
 concept SpectrumType = std::regular<S> && requires(S a, const S b, float s, std::size_t k) {
     { a + b } -> std::convertible_to<S>;
     { a - b } -> std::convertible_to<S>;
-    { a * b } -> std::convertible_to<S>;
-    { a * s } -> std::convertible_to<S>;
+    { a* b } -> std::convertible_to<S>;
+    { a* s } -> std::convertible_to<S>;
     { band(b, k) } -> std::convertible_to<float>;
     set_band(a, k, s);
     { max_abs(b) } -> std::convertible_to<float>;
@@ -137,7 +147,13 @@ S from_rgb(float r, float g, float b) {
         constexpr std::size_t n = band_count<S>;
         for (std::size_t k = 0; k < n; ++k) {
             const std::size_t third = (3 * k) / n;  // 0: blue, 1: green, 2: red
-            set_band(s, k, n == 3 ? (k == 0 ? r : k == 1 ? g : b) : (third == 0 ? b : third == 1 ? g : r));
+            set_band(s, k,
+                     n == 3 ? (k == 0   ? r
+                               : k == 1 ? g
+                                        : b)
+                            : (third == 0   ? b
+                               : third == 1 ? g
+                                            : r));
         }
         return s;
     }

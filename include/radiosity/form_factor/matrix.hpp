@@ -25,7 +25,7 @@ namespace radiosity {
 
 /// Dense n x n form-factor matrix stored row-major in float (4 n^2 bytes).
 class DenseMatrix {
-public:
+  public:
     DenseMatrix() = default;
     /// An n x n matrix of zeros.
     explicit DenseMatrix(std::size_t n) : n_(n), f_(n * n, 0.0f) {}
@@ -46,7 +46,7 @@ public:
         for (std::size_t j = 0; j < n_; ++j) f(j, r[j]);
     }
 
-private:
+  private:
     std::size_t n_ = 0;
     std::vector<float> f_;
 };
@@ -54,12 +54,12 @@ private:
 /// Sparse rows (compressed sparse row): only entries above a threshold are kept. Dropping small
 /// entries loses energy, which check_matrix reports as row sums below 1.
 class SparseMatrix {
-public:
+  public:
     SparseMatrix() = default;
     explicit SparseMatrix(std::size_t n) : n_(n), first_(n + 1, 0) {}
 
-    std::size_t size() const { return n_; }                    ///< number of patches n
-    std::size_t non_zeros() const { return value_.size(); }    ///< stored entries
+    std::size_t size() const { return n_; }                  ///< number of patches n
+    std::size_t non_zeros() const { return value_.size(); }  ///< stored entries
     /// Visits the stored entries of row i as f(j, F_ij).
     template <class F>
     void for_each_in_row(std::size_t i, F&& f) const {
@@ -72,7 +72,8 @@ public:
     }
 
     /// Builds the matrix from per-row lists of (j, F_ij).
-    static SparseMatrix from_rows(const std::vector<std::vector<std::pair<std::uint32_t, float>>>& rows) {
+    static SparseMatrix from_rows(
+        const std::vector<std::vector<std::pair<std::uint32_t, float>>>& rows) {
         SparseMatrix S(rows.size());
         for (std::size_t i = 0; i < rows.size(); ++i) {
             S.first_[i + 1] = S.first_[i] + rows[i].size();
@@ -84,7 +85,7 @@ public:
         return S;
     }
 
-private:
+  private:
     std::size_t n_ = 0;
     std::vector<std::size_t> first_;
     std::vector<std::uint32_t> column_;
@@ -93,7 +94,8 @@ private:
 
 namespace detail {
 /// Runs body(i) for every row i, in parallel with OpenMP when available, reporting progress from
-/// the first thread only (the callback need not be thread-safe) and stopping (by throwing Cancelled) when the callback asks to.
+/// the first thread only (the callback need not be thread-safe) and stopping (by throwing
+/// Cancelled) when the callback asks to.
 template <class Body>
 void for_each_row(std::size_t n, const ProgressCallback& progress, Body&& body) {
     std::atomic<std::size_t> done{0};
@@ -111,8 +113,8 @@ void for_each_row(std::size_t n, const ProgressCallback& progress, Body&& body) 
 #else
         const bool reporter = true;
 #endif
-        if (reporter &&
-            !detail::report(progress, "form factors", static_cast<double>(d) / static_cast<double>(n)))
+        if (reporter && !detail::report(progress, "form factors",
+                                        static_cast<double>(d) / static_cast<double>(n)))
             cancel = true;
     }
     if (cancel) throw Cancelled();
@@ -137,7 +139,8 @@ SparseMatrix assemble_sparse(const M& method, std::size_t n, float threshold,
         std::vector<float> scratch(n);
         method.row(i, scratch);
         for (std::size_t j = 0; j < n; ++j)
-            if (scratch[j] > threshold) rows[i].emplace_back(static_cast<std::uint32_t>(j), scratch[j]);
+            if (scratch[j] > threshold)
+                rows[i].emplace_back(static_cast<std::uint32_t>(j), scratch[j]);
     });
     return SparseMatrix::from_rows(rows);
 }
@@ -146,9 +149,9 @@ SparseMatrix assemble_sparse(const M& method, std::size_t n, float threshold,
 struct MatrixCheck {
     /// max_ij |A_i F_ij - A_j F_ji| / max_ij A_i F_ij: 0 for an exact F.
     double reciprocity_error = 0.0;
-    double min_row_sum = 0.0;          ///< min_i sum_j F_ij (1 in a closed scene)
-    double max_row_sum = 0.0;          ///< max_i sum_j F_ij (never above 1 for an exact F)
-    std::vector<double> row_sums;      ///< sum_j F_ij per row
+    double min_row_sum = 0.0;      ///< min_i sum_j F_ij (1 in a closed scene)
+    double max_row_sum = 0.0;      ///< max_i sum_j F_ij (never above 1 for an exact F)
+    std::vector<double> row_sums;  ///< sum_j F_ij per row
 };
 
 /// Checks reciprocity A_i F_ij = A_j F_ji and the row sums of an assembled matrix. O(n^2).

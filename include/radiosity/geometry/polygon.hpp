@@ -23,7 +23,9 @@ inline Vec3 newell_vector(std::span<const Vec3> p) {
 }
 
 /// Area of a polygon (half the length of its Newell vector).
-inline double polygon_area(std::span<const Vec3> p) { return 0.5 * glm::length(newell_vector(p)); }
+inline double polygon_area(std::span<const Vec3> p) {
+    return 0.5 * glm::length(newell_vector(p));
+}
 
 /// Unit normal of a polygon by Newell's method; the zero vector for a degenerate polygon.
 inline Vec3 polygon_normal(std::span<const Vec3> p) {

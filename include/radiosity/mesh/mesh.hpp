@@ -25,9 +25,9 @@ struct PatchTraits : public OpenMesh::DefaultTraits {
     using Point = OpenMesh::Vec3d;
     using Normal = OpenMesh::Vec3d;
     FaceTraits {
-        S emission{};              ///< E: radiant exitance the patch emits by itself
-        S reflectance{};           ///< R: diffuse reflectance, each band in [0, 1)
-        S radiosity{};             ///< B: total radiant exitance, filled by a solve
+        S emission{};                ///< E: radiant exitance the patch emits by itself
+        S reflectance{};             ///< R: diffuse reflectance, each band in [0, 1)
+        S radiosity{};               ///< B: total radiant exitance, filled by a solve
         std::uint32_t material = 0;  ///< index into the scene's materials (for shading breaks)
         std::uint32_t surface = 0;   ///< index of the input face this patch was cut from
     };
@@ -40,8 +40,8 @@ using Mesh = OpenMesh::PolyMesh_ArrayKernelT<PatchTraits<S>>;
 /// A diffuse material: emission E and reflectance R.
 template <SpectrumType S>
 struct Material {
-    S emission{};     ///< E (W/m^2 or any consistent unit); radiance is E / pi
-    S reflectance{};  ///< R, each band in [0, 1)
+    S emission{};      ///< E (W/m^2 or any consistent unit); radiance is E / pi
+    S reflectance{};   ///< R, each band in [0, 1)
     std::string name;  ///< for messages and exports
 };
 
@@ -78,9 +78,8 @@ template <SpectrumType S>
 Mesh<S> build_mesh(const Scene<S>& scene) {
     const std::string& src = scene.source;
     for (std::size_t m = 0; m < scene.materials.size(); ++m)
-        detail::validate_material(scene.materials[m],
-                                  src + ": material " + std::to_string(m) + " '" +
-                                      scene.materials[m].name + "'");
+        detail::validate_material(scene.materials[m], src + ": material " + std::to_string(m) +
+                                                          " '" + scene.materials[m].name + "'");
     if (scene.face_material.size() != scene.faces.size())
         throw Error(src + ": need one material index per face");
     Mesh<S> mesh;
@@ -102,14 +101,16 @@ Mesh<S> build_mesh(const Scene<S>& scene) {
         corners.clear();
         for (std::uint32_t v : face) {
             if (v >= scene.positions.size())
-                throw Error(at + " refers to vertex " + std::to_string(v) + ", which does not exist");
+                throw Error(at + " refers to vertex " + std::to_string(v) +
+                            ", which does not exist");
             poly.push_back(scene.positions[v]);
             corners.push_back(vh[v]);
         }
         if (!(polygon_area(poly) > 0.0)) throw Error(at + " has zero area");
         const std::uint32_t mat = scene.face_material[f];
         if (mat >= scene.materials.size())
-            throw Error(at + " refers to material " + std::to_string(mat) + ", which does not exist");
+            throw Error(at + " refers to material " + std::to_string(mat) +
+                        ", which does not exist");
         auto fh = mesh.add_face(corners);
         if (!fh.is_valid()) {  // non-manifold here: give the face its own vertices
             for (auto& c : corners) c = mesh.add_vertex(mesh.point(c));

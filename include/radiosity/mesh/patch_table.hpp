@@ -16,7 +16,7 @@ namespace radiosity {
 /// Geometry of n planar patches: polygon vertices (counter-clockwise about the normal), centroid,
 /// unit normal and area. A patch radiates from its front (normal) side only.
 class PatchTable {
-public:
+  public:
     /// Appends a patch; throws Error naming `what` if the polygon has fewer than 3 vertices,
     /// a non-finite coordinate or zero area.
     void add(std::span<const Vec3> polygon, const std::string& what = "patch") {
@@ -44,7 +44,7 @@ public:
     double area(std::size_t i) const { return area_[i]; }               ///< area A_i
     std::span<const double> areas() const { return area_; }             ///< all areas
 
-private:
+  private:
     std::vector<Vec3> vertices_;
     std::vector<std::uint32_t> first_{0};
     std::vector<Vec3> centroid_, normal_;

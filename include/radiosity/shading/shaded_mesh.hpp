@@ -14,8 +14,8 @@ namespace radiosity {
 /// Triangles with per-vertex positions and linear RGB colours (radiant exitance B per band;
 /// a grey B is copied to all three).
 struct ShadedMesh {
-    std::vector<Vec3> positions;                       ///< vertex positions
-    std::vector<glm::vec3> colours;                    ///< linear RGB per vertex
+    std::vector<Vec3> positions;                          ///< vertex positions
+    std::vector<glm::vec3> colours;                       ///< linear RGB per vertex
     std::vector<std::array<std::uint32_t, 3>> triangles;  ///< counter-clockwise from the front
 };
 

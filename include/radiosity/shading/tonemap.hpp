@@ -15,9 +15,9 @@ namespace radiosity {
 
 /// Exposure settings: display value = exposure_scale * 2^stops * B / pi, then clamped to [0, 1].
 struct ToneMapOptions {
-    double stops = 0.0;           ///< exposure compensation in photographic stops
-    bool auto_exposure = true;    ///< choose the scale from the image (see auto_exposure_scale)
-    double scale = 1.0;           ///< the scale used when auto_exposure is off
+    double stops = 0.0;         ///< exposure compensation in photographic stops
+    bool auto_exposure = true;  ///< choose the scale from the image (see auto_exposure_scale)
+    double scale = 1.0;         ///< the scale used when auto_exposure is off
 };
 
 /// Encodes a linear value in [0, 1] with the sRGB transfer curve (IEC 61966-2-1).
@@ -32,7 +32,9 @@ inline std::uint8_t srgb8(float linear) {
 }
 
 /// Rec. 709 luminance of a linear RGB value.
-inline float luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+inline float luminance(const glm::vec3& c) {
+    return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
+}
 
 /// Chooses the scale that maps the 95th percentile of the luminance of the non-black values to
 /// 0.8, so that emitters may saturate but lit surfaces keep their gradation. 1 if all are black.
