@@ -1,0 +1,121 @@
+// The hemicube against the exact point-to-polygon form factor (what it approximates: F from the
+// patch centre), the closed enclosures' identities, and visibility by depth.
+#include <radiosity/form_factor/analytic.hpp>
+#include <radiosity/form_factor/hemicube.hpp>
+#include <radiosity/form_factor/matrix.hpp>
+
+#include "support/refdata.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+using namespace radiosity;
+
+namespace {
+
+std::vector<float> hemicube_row(const PatchTable& t, std::size_t i, HemicubeOptions o = {}) {
+    Hemicube h(o);
+    h.prepare(t);
+    std::vector<float> row(t.size());
+    h.row(i, row);
+    return row;
+}
+
+/// An axis-aligned square of side s centred at (cx, cy) in the plane z, facing +z or -z.
+std::vector<Vec3> square(double cx, double cy, double z, double s, bool up) {
+    const double h = s / 2;
+    std::vector<Vec3> p{
+        {cx - h, cy - h, z}, {cx + h, cy - h, z}, {cx + h, cy + h, z}, {cx - h, cy + h, z}};
+    if (!up) std::reverse(p.begin(), p.end());
+    return p;
+}
+
+}  // namespace
+
+TEST_CASE("the delta form factors of the hemicube add up to 1") {
+    for (int r : {64, 128, 256}) {
+        CAPTURE(r);
+        CHECK(Hemicube({r, true}).delta_form_factor_sum() == doctest::Approx(1.0).epsilon(1e-4));
+    }
+}
+
+TEST_CASE("hemicube at the default resolution is within 2% of the exact point cases") {
+    for (const std::string name :
+         {"point_to_parallel_rect_corner_a1_b1_c1", "point_to_parallel_rect_centred_a1_b1_c1"}) {
+        CAPTURE(name);
+        const auto& c = refdata::find_case(name);
+        const PatchTable t = refdata::table(c);
+        const std::size_t from = c["from"], to = c["to"];
+        for (bool rotate : {false, true}) {
+            const auto row = hemicube_row(t, from, {128, rotate});
+            CHECK(std::abs(row[to] - double(c["expected"])) / double(c["expected"]) < 0.02);
+        }
+    }
+}
+
+TEST_CASE("hemicube within 2% of the exact point-to-polygon value from the patch centre") {
+    // On every scalar geometry of the reference cases, what the hemicube estimates is exactly
+    // the point-to-polygon form factor at the centroid: compare against the contour integral.
+    for (const auto& name : refdata::case_names("form_factor", "scalar")) {
+        CAPTURE(name);
+        const auto& c = refdata::find_case(name);
+        const PatchTable t = refdata::table(c);
+        for (auto [i, j] : {std::pair<std::size_t, std::size_t>{c["from"], c["to"]},
+                            std::pair<std::size_t, std::size_t>{c["to"], c["from"]}}) {
+            // The point cases' 1 mm source covers less than a pixel seen from the far square:
+            // point sampling cannot resolve it (the method's aliasing), so skip that direction.
+            if (c.contains("point_position") && i == std::size_t(c["to"])) continue;
+            const double exact = point_to_polygon(t.centroid(i), t.normal(i), t.polygon(j));
+            const auto row = hemicube_row(t, i);
+            CHECK(std::abs(row[j] - exact) / exact < 0.02);
+        }
+    }
+}
+
+TEST_CASE("hemicube rows of a closed box sum to 1 and match the exact matrix to 2%") {
+    const auto& c = refdata::find_case("closed_box_1x1x1");
+    const PatchTable t = refdata::table(c);
+    Hemicube h;
+    h.prepare(t);
+    const DenseMatrix F = assemble_dense(h, t.size());
+    const MatrixCheck check = check_matrix(F, t.areas());
+    CHECK(check.min_row_sum == doctest::Approx(1.0).epsilon(1e-4));
+    CHECK(check.max_row_sum == doctest::Approx(1.0).epsilon(1e-4));
+    // From the centre of a face the other faces are seen as: opposite 0.2 -> point value
+    // differs from the area value, so compare with the point-to-polygon value at the centre.
+    for (std::size_t i = 0; i < t.size(); ++i)
+        for (std::size_t j = 0; j < t.size(); ++j) {
+            if (i == j) {
+                CHECK(F(i, j) == 0.0f);
+                continue;
+            }
+            const double exact = point_to_polygon(t.centroid(i), t.normal(i), t.polygon(j));
+            CHECK(std::abs(F(i, j) - exact) / exact < 0.02);
+        }
+}
+
+TEST_CASE("a screen between two squares hides them from each other; its back absorbs") {
+    PatchTable t;
+    t.add(square(0, 0, 0, 1, true));   // 0: floor, faces up
+    t.add(square(0, 0, 2, 1, false));  // 1: ceiling, faces down
+    t.add(square(0, 0, 1, 3, true));   // 2: screen, its front towards the ceiling
+    const auto row = hemicube_row(t, 0);
+    CHECK(row[1] == 0.0f);  // fully hidden
+    CHECK(row[2] == 0.0f);  // the screen shows the floor its back: occludes, takes nothing
+    const auto from_ceiling = hemicube_row(t, 1);
+    CHECK(from_ceiling[0] == 0.0f);
+    const double exact = point_to_polygon(t.centroid(1), t.normal(1), t.polygon(2));
+    CHECK(std::abs(from_ceiling[2] - exact) / exact < 0.02);
+}
+
+TEST_CASE("hemicube rows are deterministic and options are checked") {
+    const auto& c = refdata::find_case("closed_box_1x1x1");
+    const PatchTable t = refdata::table(c);
+    CHECK(hemicube_row(t, 3) == hemicube_row(t, 3));
+    CHECK_THROWS_AS(Hemicube({127, true}), Error);
+    CHECK_THROWS_AS(Hemicube({0, true}), Error);
+    Hemicube unprepared;
+    std::vector<float> row(2);
+    CHECK_THROWS_AS(unprepared.row(0, row), Error);
+}
