@@ -9,6 +9,7 @@
 #include <radiosity/concepts.hpp>
 #include <radiosity/error.hpp>
 #include <radiosity/geometry/raster.hpp>
+#include <radiosity/geometry/sampling.hpp>
 #include <radiosity/mesh/patch_table.hpp>
 
 #include <array>
@@ -35,15 +36,6 @@ struct HemicubeFace {
     Vec3 right, up, forward;
     bool side;  // side faces show only their upper half (above the patch's plane)
 };
-
-/// Splitmix64 (Steele, Lea & Flood 2014): a well-mixed hash of the patch index, so that the
-/// hemicube's rotation is random-looking yet the same on every run and every thread.
-inline std::uint64_t splitmix64(std::uint64_t x) {
-    x += 0x9e3779b97f4a7c15ULL;
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-    return x ^ (x >> 31);
-}
 
 /// Two unit vectors completing n to a right-handed orthonormal frame (Duff et al. 2017).
 inline void orthonormal_basis(const Vec3& n, Vec3& u, Vec3& v) {
@@ -146,8 +138,8 @@ class Hemicube {
         Vec3 u, v;
         detail::orthonormal_basis(n, u, v);
         if (options_.rotate) {
-            const double angle = 2.0 * std::numbers::pi *
-                                 static_cast<double>(detail::splitmix64(i) >> 11) * 0x1.0p-53;
+            const double angle =
+                2.0 * std::numbers::pi * static_cast<double>(splitmix64(i) >> 11) * 0x1.0p-53;
             const Vec3 u2 = std::cos(angle) * u + std::sin(angle) * v;
             v = glm::cross(n, u2);
             u = u2;

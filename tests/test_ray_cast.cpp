@@ -1,0 +1,203 @@
+// Ray-cast form factors and the BVH: the closed forms of ../shared/refdata/cases.json, rows of
+// closed scenes with occluders summing to 1, a fully screened pair giving exactly 0,
+// reciprocity, and results independent of the thread count.
+#include <radiosity/form_factor/analytic.hpp>
+#include <radiosity/form_factor/hemicube.hpp>
+#include <radiosity/form_factor/matrix.hpp>
+#include <radiosity/form_factor/ray_cast.hpp>
+#include <radiosity/geometry/bvh.hpp>
+
+#include "support/refdata.hpp"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#if defined(RADIOSITY_WITH_OPENMP)
+#include <omp.h>
+#endif
+
+using namespace radiosity;
+
+namespace {
+
+double relative_error(double value, double exact) {
+    return std::abs(value - exact) / exact;
+}
+
+/// Adds an axis-aligned box [lo, hi] as 6 faces split into g x g patches each, normals pointing
+/// inwards (a room) or outwards (a block).
+void add_box(PatchTable& t, const Vec3& lo, const Vec3& hi, int g, bool inwards) {
+    for (int axis = 0; axis < 3; ++axis)
+        for (int side = 0; side < 2; ++side) {
+            const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
+            for (int u = 0; u < g; ++u)
+                for (int v = 0; v < g; ++v) {
+                    auto at = [&](double s, double r) {
+                        Vec3 p;
+                        p[axis] = side ? hi[axis] : lo[axis];
+                        p[a1] = lo[a1] + (hi[a1] - lo[a1]) * s / g;
+                        p[a2] = lo[a2] + (hi[a2] - lo[a2]) * r / g;
+                        return p;
+                    };
+                    std::vector<Vec3> q{at(u, v), at(u + 1, v), at(u + 1, v + 1), at(u, v + 1)};
+                    // (a1, a2, axis) is right-handed, so this quad faces +axis.
+                    const bool faces_plus = (side == 0) == inwards;
+                    if (!faces_plus) std::reverse(q.begin(), q.end());
+                    t.add(q);
+                }
+        }
+}
+
+/// A closed room of side 4 (2 x 2 patches per wall) with a floating block in it.
+PatchTable room_with_block() {
+    PatchTable t;
+    add_box(t, Vec3(0.0), Vec3(4.0), 2, true);
+    add_box(t, Vec3(1.2, 1.4, 1.0), Vec3(2.6, 2.5, 2.2), 1, false);
+    return t;
+}
+
+std::vector<Vec3> square(double z, double s, bool up) {
+    const double h = s / 2;
+    std::vector<Vec3> p{{-h, -h, z}, {h, -h, z}, {h, h, z}, {-h, h, z}};
+    if (!up) std::reverse(p.begin(), p.end());
+    return p;
+}
+
+}  // namespace
+
+TEST_CASE("bvh: closest hits and occlusion against a hand-made scene") {
+    PatchTable t;
+    t.add(square(0.0, 2.0, true));   // 0
+    t.add(square(1.0, 1.0, false));  // 1
+    t.add(square(2.0, 2.0, false));  // 2
+    const Bvh bvh(t);
+    CHECK(bvh.triangle_count() == 6);
+    const auto hit = bvh.intersect(Vec3(0.1, 0.2, 3.0), Vec3(0, 0, -1));
+    REQUIRE(hit);
+    CHECK(hit->patch == 2);
+    CHECK(hit->t == doctest::Approx(1.0));
+    const auto below = bvh.intersect(Vec3(0.1, 0.2, 1.5), Vec3(0, 0, -1));
+    REQUIRE(below);
+    CHECK(below->patch == 1);
+    CHECK(bvh.occluded({0.1, 0.2, 0.0}, {0.1, 0.2, 2.0}, 0, 2));   // square 1 in between
+    CHECK(!bvh.occluded({0.9, 0.9, 0.0}, {0.9, 0.9, 2.0}, 0, 2));  // beside square 1
+    CHECK(!bvh.intersect(Vec3(5, 5, 5), Vec3(0, 0, 1)));
+}
+
+TEST_CASE("bvh is watertight: rays through shared edges and vertices never slip through") {
+    // A fan of triangles around the origin; rays aimed exactly at the shared edges and centre.
+    PatchTable t;
+    const int n = 12;
+    for (int k = 0; k < n; ++k) {
+        const double a0 = 2 * std::numbers::pi * k / n, a1 = 2 * std::numbers::pi * (k + 1) / n;
+        t.add(std::vector<Vec3>{
+            {0, 0, 0}, {std::cos(a0), std::sin(a0), 0}, {std::cos(a1), std::sin(a1), 0}});
+    }
+    const Bvh bvh(t);
+    int misses = 0;
+    for (int k = 0; k < n; ++k) {
+        const double a = 2 * std::numbers::pi * k / n;
+        for (double r : {0.0, 0.25, 0.5, 0.75}) {
+            const Vec3 target(r * std::cos(a), r * std::sin(a), 0.0);
+            for (const Vec3& from : {Vec3(0.3, -0.2, 1.0), Vec3(-0.7, 0.1, -2.0)})
+                if (!bvh.intersect(from, target - from)) ++misses;
+        }
+    }
+    CHECK(misses == 0);
+}
+
+TEST_CASE("ray-cast at default settings is within 1% of every form-factor closed form") {
+    for (const auto& name : refdata::case_names("form_factor", "scalar")) {
+        CAPTURE(name);
+        const auto& c = refdata::find_case(name);
+        const PatchTable t = refdata::table(c);
+        RayCast method;
+        method.prepare(t);
+        const std::size_t from = c["from"], to = c["to"];
+        const bool point = c.contains("point_position");
+        const double forward = point ? double(c["expected_small_patch"]) : double(c["expected"]);
+        CHECK(relative_error(method.pair(from, to), forward) < 0.01);
+        if (!point) CHECK(relative_error(method.pair(to, from), c["expected_reverse"]) < 0.01);
+    }
+    for (const std::string name : {"closed_box_1x1x1", "regular_tetrahedron"}) {
+        CAPTURE(name);
+        const auto& c = refdata::find_case(name);
+        const PatchTable t = refdata::table(c);
+        RayCast method;
+        method.prepare(t);
+        const auto expected = refdata::matrix(c["expected"]);
+        const DenseMatrix F = assemble_dense(method, t.size());
+        for (std::size_t i = 0; i < t.size(); ++i)
+            for (std::size_t j = 0; j < t.size(); ++j)
+                if (i != j) CHECK(relative_error(F(i, j), expected[i][j]) < 0.01);
+    }
+}
+
+TEST_CASE("a larger square between two squares screens them completely: F = 0 exactly") {
+    PatchTable t;
+    t.add(square(0.0, 1.0, true));   // floor
+    t.add(square(2.0, 1.0, false));  // ceiling
+    t.add(square(1.0, 3.0, true));   // screen
+    RayCast ray_cast;
+    ray_cast.prepare(t);
+    CHECK(ray_cast.pair(0, 1) == 0.0);
+    CHECK(ray_cast.pair(1, 0) == 0.0);
+    Analytic analytic({1e-6, 10, 16, 256, 1});
+    analytic.prepare(t);
+    CHECK(analytic.pair(0, 1) == 0.0);
+}
+
+TEST_CASE("closed room with a block: every row of every method with visibility sums to 1") {
+    const PatchTable t = room_with_block();
+    RayCast ray_cast;
+    Analytic analytic({1e-6, 10, 16, 256, 1});
+    Hemicube hemicube;
+    ray_cast.prepare(t);
+    analytic.prepare(t);
+    hemicube.prepare(t);
+    const DenseMatrix by_rays = assemble_dense(ray_cast, t.size());
+    const DenseMatrix by_analytic = assemble_dense(analytic, t.size());
+    const DenseMatrix by_hemicube = assemble_dense(hemicube, t.size());
+    for (const DenseMatrix* F : {&by_rays, &by_analytic, &by_hemicube}) {
+        const MatrixCheck check = check_matrix(*F, t.areas());
+        CHECK(check.min_row_sum > 0.99);
+        CHECK(check.max_row_sum < 1.01);
+    }
+    // Reciprocity within 2%. (The hemicube, which sees each patch from its centre only, is not
+    // reciprocal by construction; with these coarse 2 x 2 walls it is off by about 8%.)
+    CHECK(check_matrix(by_rays, t.areas()).reciprocity_error < 0.02);
+    CHECK(check_matrix(by_analytic, t.areas()).reciprocity_error < 0.02);
+}
+
+TEST_CASE("ray-cast rows are bit-identical for 1 and N threads") {
+    const PatchTable t = room_with_block();
+    RayCast method;
+    method.prepare(t);
+#if defined(RADIOSITY_WITH_OPENMP)
+    const int before = omp_get_max_threads();
+    omp_set_num_threads(1);
+    const DenseMatrix one = assemble_dense(method, t.size());
+    omp_set_num_threads(std::max(2, before));
+    const DenseMatrix many = assemble_dense(method, t.size());
+    omp_set_num_threads(before);
+#else
+    const DenseMatrix one = assemble_dense(method, t.size());
+    // Serially, rows asked for in reverse order must still come out the same.
+    DenseMatrix many(t.size());
+    for (std::size_t i = t.size(); i-- > 0;) method.row(i, many.row(i));
+#endif
+    bool identical = true;
+    for (std::size_t i = 0; i < t.size(); ++i)
+        identical = identical && std::memcmp(one.row(i).data(), many.row(i).data(),
+                                             t.size() * sizeof(float)) == 0;
+    CHECK(identical);
+}
+
+TEST_CASE("ray-cast options are checked") {
+    CHECK_THROWS_AS(RayCast({0, 256, 1, {}}), Error);
+    RayCast unprepared;
+    CHECK_THROWS_AS(unprepared.pair(0, 1), Error);
+}
