@@ -6,6 +6,8 @@
 #include <radiosity/concepts.hpp>
 #include <radiosity/error.hpp>
 #include <radiosity/geometry/vec.hpp>
+
+#include <glm/gtc/type_ptr.hpp>
 #include <radiosity/mesh/patch_table.hpp>
 
 #include <algorithm>
@@ -115,10 +117,23 @@ class Bvh {
             return d.x < 0.0 ? 0.0 : d.x * d.y + d.y * d.z + d.z * d.x;
         }
     };
+    /// A box in single precision, rounded outwards so it always contains the double box: half
+    /// the memory traffic of doubles during traversal, and never a missed triangle.
+    struct FloatBox {
+        std::array<float, 3> lo{}, hi{};
+        FloatBox() = default;
+        explicit FloatBox(const Box& b) {
+            constexpr float inf = std::numeric_limits<float>::infinity();
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = std::nextafter(static_cast<float>(b.lo[a]), -inf);
+                hi[a] = std::nextafter(static_cast<float>(b.hi[a]), inf);
+            }
+        }
+    };
     /// A node: its box; for a leaf, its triangle range; for an inner node, its second child
     /// (the first child always follows its parent in the array).
     struct Node {
-        Box box;
+        FloatBox box;
         std::uint32_t first = 0;  // leaf: first triangle; inner: index of the second child
         std::uint32_t count = 0;  // leaf: triangle count; 0 for an inner node
     };
@@ -151,7 +166,7 @@ class Bvh {
             box.grow(triangle_box(k));
             centres.grow(centroid(k));
         }
-        nodes_[index].box = box;
+        nodes_[index].box = FloatBox(box);
         const Split s = best_split(first, count, centres);
         if (count <= static_cast<std::uint32_t>(options_.max_leaf_size) || s.axis < 0 ||
             depth >= 64)
@@ -235,14 +250,18 @@ class Bvh {
 
     /// Slab test of a ray against a box (Kay & Kajiya 1986) with precomputed reciprocal
     /// direction; returns the entry distance, or infinity for a miss.
-    static double enter(const Box& b, const Vec3& o, const Vec3& inv, double t0, double t1) {
+    /// Slab test of a ray against a box (Kay & Kajiya 1986) with precomputed reciprocal
+    /// direction; returns the entry distance, or infinity for a miss. Components are read
+    /// through plain arrays: glm's operator[] branches on the index.
+    static double enter(const FloatBox& b, const double* o, const double* inv, double t0,
+                        double t1) {
         for (int a = 0; a < 3; ++a) {
             double near = (b.lo[a] - o[a]) * inv[a], far = (b.hi[a] - o[a]) * inv[a];
             if (near > far) std::swap(near, far);
-            t0 = std::max(t0, near);
-            t1 = std::min(t1, far * (1.0 + 1e-12));  // conservative: never miss a grazing box
+            t0 = near > t0 ? near : t0;
+            t1 = far < t1 ? far : t1;
         }
-        return t0 <= t1 ? t0 : std::numeric_limits<double>::infinity();
+        return t0 <= t1 * (1.0 + 1e-12) ? t0 : std::numeric_limits<double>::infinity();
     }
 
     /// The watertight ray-triangle test (Woop, Benthin & Wald 2013): shear the triangle into the
@@ -252,8 +271,9 @@ class Bvh {
     struct ShearedRay {
         int kx, ky, kz;
         double sx, sy, sz;
-        explicit ShearedRay(const Vec3& d) {
-            const Vec3 a = glm::abs(d);
+        explicit ShearedRay(const Vec3& dir) {
+            const Vec3 a = glm::abs(dir);
+            const double* d = glm::value_ptr(dir);
             kz = a.x > a.y ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
             kx = (kz + 1) % 3;
             ky = (kx + 1) % 3;
@@ -266,7 +286,8 @@ class Bvh {
 
     static bool hit_triangle(const Triangle& tri, const Vec3& o, const ShearedRay& r, double t0,
                              double t1, double& t, double& u, double& v) {
-        const Vec3 A = tri.v[0] - o, B = tri.v[1] - o, C = tri.v[2] - o;
+        const Vec3 dA = tri.v[0] - o, dB = tri.v[1] - o, dC = tri.v[2] - o;
+        const double *A = glm::value_ptr(dA), *B = glm::value_ptr(dB), *C = glm::value_ptr(dC);
         const double ax = A[r.kx] - r.sx * A[r.kz], ay = A[r.ky] - r.sy * A[r.kz];
         const double bx = B[r.kx] - r.sx * B[r.kz], by = B[r.ky] - r.sy * B[r.kz];
         const double cx = C[r.kx] - r.sx * C[r.kz], cy = C[r.ky] - r.sy * C[r.kz];
@@ -289,16 +310,29 @@ class Bvh {
                   const double* t_far = nullptr) const {
         if (nodes_.empty() || d == Vec3(0.0)) return;
         const ShearedRay sheared(d);
-        Vec3 inv;
-        for (int a = 0; a < 3; ++a) inv[a] = d[a] != 0.0 ? 1.0 / d[a] : std::copysign(1e300, d[a]);
-        std::array<std::uint32_t, 128> stack;
+        const double* dp = glm::value_ptr(d);
+        const double o_[3] = {o.x, o.y, o.z};
+        double inv[3];
+        for (int a = 0; a < 3; ++a)
+            inv[a] = dp[a] != 0.0 ? 1.0 / dp[a] : std::copysign(1e300, dp[a]);
+        constexpr double miss = std::numeric_limits<double>::infinity();
+        // Each stack entry is a node whose box the ray enters, with its entry distance (a
+        // closest-hit query drops it once a nearer hit is known); boxes are tested once, at
+        // the parent, so both children are compared and the nearer is visited first.
+        struct Entry {
+            std::uint32_t node;
+            double t;
+        };
+        std::array<Entry, 128> stack;
         std::size_t top = 0;
-        stack[top++] = 0;
+        const double root = enter(nodes_[0].box, o_, inv, t0, t1);
+        if (root == miss) return;
+        stack[top++] = {0, root};
         while (top > 0) {
-            const Node& node = nodes_[stack[--top]];
+            const Entry e = stack[--top];
             const double limit = t_far ? *t_far : t1;
-            if (enter(node.box, o, inv, t0, limit) == std::numeric_limits<double>::infinity())
-                continue;
+            if (e.t > limit) continue;
+            const Node& node = nodes_[e.node];
             if (node.count > 0) {
                 for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
                     double t, u, v;
@@ -308,17 +342,15 @@ class Bvh {
                 }
                 continue;
             }
-            const auto left = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
-            const std::uint32_t right = node.first;
-            const double tl = enter(nodes_[left].box, o, inv, t0, limit);
-            const double tr = enter(nodes_[right].box, o, inv, t0, limit);
-            // Push the farther child first so the nearer is visited first.
-            if (tl <= tr) {
-                if (tr != std::numeric_limits<double>::infinity()) stack[top++] = right;
-                if (tl != std::numeric_limits<double>::infinity()) stack[top++] = left;
+            const std::uint32_t left = e.node + 1, right = node.first;
+            const double tl = enter(nodes_[left].box, o_, inv, t0, limit);
+            const double tr = enter(nodes_[right].box, o_, inv, t0, limit);
+            if (tl <= tr) {  // push the farther child first, so the nearer is visited first
+                if (tr != miss) stack[top++] = {right, tr};
+                if (tl != miss) stack[top++] = {left, tl};
             } else {
-                if (tl != std::numeric_limits<double>::infinity()) stack[top++] = left;
-                stack[top++] = right;
+                if (tl != miss) stack[top++] = {left, tl};
+                stack[top++] = {right, tr};
             }
         }
     }
