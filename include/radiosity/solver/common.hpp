@@ -1,0 +1,123 @@
+#pragma once
+/// @file common.hpp  What the solvers share: patch values as doubles (K bands per patch,
+/// interleaved), the gather sum_j F_ij B_j over an assembled row, the relative residual of
+/// B = E + R F B, a stopwatch, and the checks of a system against its matrix.
+
+#include <radiosity/concepts.hpp>
+#include <radiosity/error.hpp>
+#include <radiosity/solver/system.hpp>
+#include <radiosity/spectrum.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace radiosity {
+
+/// A solver of the radiosity system: `solver.solve(system, F, progress)` returns B and a Report.
+/// F is an assembled matrix (Jacobi, Gauss-Seidel, direct) or, for progressive shooting, any
+/// RowSource, so that rows can be computed on demand.
+template <class X, class S, class Mx>
+concept Solver = SpectrumType<S> &&
+    requires(const X& solver, const System<S>& system, const Mx& F, const ProgressCallback& p) {
+    { solver.solve(system, F, p) } -> std::same_as<Solution<S>>;
+};
+
+namespace detail {
+
+/// The most bands a solver handles (the per-row accumulators live on the stack).
+inline constexpr std::size_t max_bands = 16;
+
+/// Values of all patches as doubles, band_count<S> bands per patch, patch after patch: the
+/// solvers accumulate in double so that a tolerance of 1e-7 is meaningful with float colours.
+template <SpectrumType S>
+std::vector<double> to_doubles(std::span<const S> v) {
+    constexpr std::size_t K = band_count<S>;
+    static_assert(K <= max_bands, "the solvers handle at most 16 bands");
+    std::vector<double> out(v.size() * K);
+    for (std::size_t i = 0; i < v.size(); ++i)
+        for (std::size_t k = 0; k < K; ++k) out[i * K + k] = band(v[i], k);
+    return out;
+}
+
+/// The inverse of to_doubles.
+template <SpectrumType S>
+std::vector<S> from_doubles(const std::vector<double>& v) {
+    constexpr std::size_t K = band_count<S>;
+    std::vector<S> out(v.size() / K);
+    for (std::size_t i = 0; i < out.size(); ++i)
+        for (std::size_t k = 0; k < K; ++k) set_band(out[i], k, static_cast<float>(v[i * K + k]));
+    return out;
+}
+
+/// acc[k] = sum_j F_ij B_j[k] over the entries of row i (the "gather" of the course).
+template <AssembledMatrix Mx>
+void gather(const Mx& F, std::size_t i, const std::vector<double>& B, std::size_t K, double* acc) {
+    std::fill(acc, acc + K, 0.0);
+    F.for_each_in_row(i, [&](std::size_t j, float f) {
+        if (f == 0.0f) return;
+        for (std::size_t k = 0; k < K; ++k) acc[k] += f * B[j * K + k];
+    });
+}
+
+/// max over patches and bands of |E|: the scale of the relative residual (1 if E = 0, so that
+/// the residual is then the absolute one).
+inline double emission_scale(const std::vector<double>& E) {
+    double m = 0.0;
+    for (double e : E) m = std::max(m, std::abs(e));
+    return m > 0.0 ? m : 1.0;
+}
+
+/// The relative residual ||E + R F B - B||_inf / ||E||_inf of the radiosity equation at B.
+/// Cost: one pass over the matrix.
+template <AssembledMatrix Mx>
+double relative_residual(const Mx& F, const std::vector<double>& E, const std::vector<double>& R,
+                         const std::vector<double>& B, std::size_t K) {
+    const std::size_t n = F.size();
+    double worst = 0.0;
+    std::vector<double> acc(K);
+    for (std::size_t i = 0; i < n; ++i) {
+        gather(F, i, B, K, acc.data());
+        for (std::size_t k = 0; k < K; ++k) {
+            const std::size_t ik = i * K + k;
+            worst = std::max(worst, std::abs(E[ik] + R[ik] * acc[k] - B[ik]));
+        }
+    }
+    return worst / emission_scale(E);
+}
+
+/// Validates the system and that the matrix has one row per patch.
+template <SpectrumType S>
+void check_system(const System<S>& system, std::size_t matrix_size, const char* solver) {
+    system.validate();
+    if (matrix_size != system.size())
+        throw Error(std::string(solver) + ": the form-factor matrix has " +
+                    std::to_string(matrix_size) + " rows for " + std::to_string(system.size()) +
+                    " patches");
+}
+
+/// Wall-clock seconds since construction.
+class Stopwatch {
+  public:
+    double seconds() const {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    }
+
+  private:
+    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+/// Progress through an iterative solve as a fraction: how far the residual has come down from
+/// its start towards the tolerance, on a log scale (so that each digit gained counts alike).
+inline double convergence_fraction(double first, double now, double tolerance) {
+    if (!(now > tolerance) || !(first > tolerance)) return 1.0;
+    const double f = std::log(first / now) / std::log(first / tolerance);
+    return std::clamp(f, 0.0, 1.0);
+}
+
+}  // namespace detail
+}  // namespace radiosity
