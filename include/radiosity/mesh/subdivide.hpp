@@ -1,0 +1,307 @@
+#pragma once
+/// @file subdivide.hpp  Conforming subdivision of the patch mesh to a maximum edge length
+/// (Cohen & Wallace 1993, ch. 8: meshing). Every geometric edge is cut into the same number of
+/// segments for all faces that use it, so neighbouring patches share their vertices and there
+/// are no T-junctions (smooth shading then has no cracks). Quads become k1 x k2 grids of quads,
+/// triangles k^2 triangles, so children keep their parent's shape and no slivers appear.
+
+#include <radiosity/error.hpp>
+#include <radiosity/geometry/polygon.hpp>
+#include <radiosity/mesh/mesh.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <utility>
+#include <vector>
+
+namespace radiosity {
+
+/// Settings of the subdivision.
+struct SubdivisionOptions {
+    double max_edge = 0.0;              ///< longest edge allowed; 0 keeps the faces
+    std::size_t max_faces = 4'000'000;  ///< refuse to make more patches than this
+};
+
+namespace detail {
+
+/// Union-find with path halving (Tarjan 1975), for merging vertices and edge classes.
+class DisjointSets {
+  public:
+    explicit DisjointSets(std::size_t n) : parent_(n) {
+        std::iota(parent_.begin(), parent_.end(), std::size_t{0});
+    }
+    std::size_t find(std::size_t x) {
+        while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
+        return x;
+    }
+    void unite(std::size_t a, std::size_t b) {
+        a = find(a);
+        b = find(b);
+        if (a != b) parent_[std::max(a, b)] = std::min(a, b);  // deterministic representative
+    }
+
+  private:
+    std::vector<std::size_t> parent_;
+};
+
+/// The input as polygons over merged vertices: coincident points (within eps) become one.
+struct Welded {
+    std::vector<Vec3> point;                       // one per merged vertex
+    std::vector<std::vector<std::uint32_t>> face;  // convex polygons, 3 or 4 corners
+    std::vector<std::size_t> parent;               // input face of each polygon
+};
+
+/// Merges vertices closer than eps: sort by x and compare neighbours within eps in x.
+/// O(n log n) for scenes without huge clusters of equal x.
+template <class M>
+Welded weld(const M& mesh, double eps) {
+    const std::size_t nv = mesh.n_vertices();
+    std::vector<Vec3> p(nv);
+    for (auto v : mesh.vertices()) {
+        const auto& q = mesh.point(v);
+        p[static_cast<std::size_t>(v.idx())] = Vec3(q[0], q[1], q[2]);
+    }
+    std::vector<std::size_t> order(nv);
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return p[a].x < p[b].x || (p[a].x == p[b].x && a < b);
+    });
+    DisjointSets sets(nv);
+    for (std::size_t s = 0; s < nv; ++s)
+        for (std::size_t t = s + 1; t < nv && p[order[t]].x - p[order[s]].x <= eps; ++t)
+            if (glm::distance(p[order[s]], p[order[t]]) <= eps) sets.unite(order[s], order[t]);
+    Welded w;
+    std::vector<std::uint32_t> id(nv, UINT32_MAX);
+    std::vector<std::uint32_t> merged(nv);
+    for (std::size_t v = 0; v < nv; ++v) {
+        const std::size_t r = sets.find(v);
+        if (id[r] == UINT32_MAX) {
+            id[r] = static_cast<std::uint32_t>(w.point.size());
+            w.point.push_back(p[r]);
+        }
+        merged[v] = id[r];
+    }
+    for (auto f : mesh.faces()) {
+        std::vector<std::uint32_t> c;
+        for (auto v : mesh.fv_range(f)) c.push_back(merged[static_cast<std::size_t>(v.idx())]);
+        if (c.size() <= 4) {
+            w.face.push_back(c);
+            w.parent.push_back(static_cast<std::size_t>(f.idx()));
+        } else {  // larger polygons: a fan of triangles (they are convex)
+            for (std::size_t k = 1; k + 1 < c.size(); ++k) {
+                w.face.push_back({c[0], c[k], c[k + 1]});
+                w.parent.push_back(static_cast<std::size_t>(f.idx()));
+            }
+        }
+    }
+    return w;
+}
+
+/// Edge ids of the welded polygons, and the number of segments of each edge: the most any
+/// edge of its class needs, where a class joins the opposite sides of each quad and all sides
+/// of each triangle (so the grids fit).
+struct EdgeSplits {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::size_t> id;  // (lo, hi) -> edge
+    std::vector<std::vector<std::size_t>> face_edges;  // edge k of face f joins corners k, k+1
+    std::vector<std::size_t> segments;                 // per edge
+};
+
+inline EdgeSplits split_edges(const Welded& w, double max_edge) {
+    EdgeSplits e;
+    std::vector<double> length;
+    for (const auto& f : w.face) {
+        std::vector<std::size_t> ids;
+        for (std::size_t k = 0; k < f.size(); ++k) {
+            const std::uint32_t a = f[k], b = f[(k + 1) % f.size()];
+            const auto key = std::minmax(a, b);
+            auto [it, fresh] = e.id.try_emplace({key.first, key.second}, length.size());
+            if (fresh) length.push_back(glm::distance(w.point[a], w.point[b]));
+            ids.push_back(it->second);
+        }
+        e.face_edges.push_back(ids);
+    }
+    DisjointSets classes(length.size());
+    for (const auto& ids : e.face_edges) {
+        if (ids.size() == 4) {
+            classes.unite(ids[0], ids[2]);
+            classes.unite(ids[1], ids[3]);
+        } else {
+            classes.unite(ids[0], ids[1]);
+            classes.unite(ids[1], ids[2]);
+        }
+    }
+    std::vector<std::size_t> need(length.size(), 1);
+    for (std::size_t k = 0; k < length.size(); ++k) {
+        const double n = std::ceil(length[k] / max_edge - 1e-9);
+        const std::size_t c = classes.find(k);
+        need[c] = std::max(need[c], static_cast<std::size_t>(std::max(1.0, n)));
+    }
+    e.segments.resize(length.size());
+    for (std::size_t k = 0; k < length.size(); ++k) e.segments[k] = need[classes.find(k)];
+    return e;
+}
+
+/// Builds the output mesh, sharing every vertex that lies on an input vertex or edge.
+template <SpectrumType S>
+class SubdivisionBuilder {
+  public:
+    SubdivisionBuilder(const Mesh<S>& in, const Welded& w, const EdgeSplits& e)
+        : in_(in), w_(w), e_(e), corner_(w.point.size()) {}
+
+    Mesh<S> build() {
+        for (std::size_t f = 0; f < w_.face.size(); ++f) {
+            if (w_.face[f].size() == 4)
+                quad(f);
+            else
+                triangle(f);
+        }
+        return std::move(out_);
+    }
+
+  private:
+    using VH = typename Mesh<S>::VertexHandle;
+
+    VH add(const Vec3& p) { return out_.add_vertex({p.x, p.y, p.z}); }
+
+    /// The vertex at step t (0..k) along the edge from corner a to corner b, the same handle
+    /// whichever face asks and in whichever direction it walks the edge.
+    VH edge_point(std::uint32_t a, std::uint32_t b, std::size_t t, std::size_t k) {
+        if (t == 0) return corner(a);
+        if (t == k) return corner(b);
+        if (a > b) {
+            std::swap(a, b);
+            t = k - t;
+        }
+        const std::size_t edge = e_.id.at({a, b});
+        auto [it, fresh] = on_edge_.try_emplace({edge, t});
+        if (fresh) {
+            const double s = static_cast<double>(t) / static_cast<double>(k);
+            it->second = add(w_.point[a] + s * (w_.point[b] - w_.point[a]));
+        }
+        return it->second;
+    }
+
+    VH corner(std::uint32_t v) {
+        if (!corner_[v].is_valid()) corner_[v] = add(w_.point[v]);
+        return corner_[v];
+    }
+
+    void face(std::size_t f, std::vector<VH> c) {
+        auto h = out_.add_face(c);
+        if (!h.is_valid()) {  // would be non-manifold: the child gets its own vertices
+            for (VH& v : c) v = out_.add_vertex(out_.point(v));
+            h = out_.add_face(c);
+            if (!h.is_valid())
+                throw Error("subdivide: could not add a child of face " +
+                            std::to_string(w_.parent[f]));
+        }
+        out_.data(h) = in_.data(typename Mesh<S>::FaceHandle(static_cast<int>(w_.parent[f])));
+    }
+
+    /// A quad v0 v1 v2 v3 as a k1 x k2 grid: point (a, b) is bilinear in the corners; points on
+    /// the sides come from edge_point, so neighbours share them.
+    void quad(std::size_t f) {
+        const auto& v = w_.face[f];
+        const std::size_t k1 = e_.segments[e_.face_edges[f][0]];
+        const std::size_t k2 = e_.segments[e_.face_edges[f][1]];
+        std::vector<VH> grid((k1 + 1) * (k2 + 1));
+        auto at = [&](std::size_t a, std::size_t b) -> VH& { return grid[b * (k1 + 1) + a]; };
+        for (std::size_t b = 0; b <= k2; ++b)
+            for (std::size_t a = 0; a <= k1; ++a) {
+                if (b == 0)
+                    at(a, b) = edge_point(v[0], v[1], a, k1);
+                else if (a == k1)
+                    at(a, b) = edge_point(v[1], v[2], b, k2);
+                else if (b == k2)
+                    at(a, b) = edge_point(v[3], v[2], a, k1);
+                else if (a == 0)
+                    at(a, b) = edge_point(v[0], v[3], b, k2);
+                else {
+                    const double s = double(a) / double(k1), t = double(b) / double(k2);
+                    at(a, b) =
+                        add((1 - s) * (1 - t) * w_.point[v[0]] + s * (1 - t) * w_.point[v[1]] +
+                            s * t * w_.point[v[2]] + (1 - s) * t * w_.point[v[3]]);
+                }
+            }
+        for (std::size_t b = 0; b < k2; ++b)
+            for (std::size_t a = 0; a < k1; ++a)
+                face(f, {at(a, b), at(a + 1, b), at(a + 1, b + 1), at(a, b + 1)});
+    }
+
+    /// A triangle v0 v1 v2 as k^2 triangles: point (a, b) = v0 + a/k (v1 - v0) + b/k (v2 - v0).
+    void triangle(std::size_t f) {
+        const auto& v = w_.face[f];
+        const std::size_t k = e_.segments[e_.face_edges[f][0]];
+        std::vector<VH> row((k + 1) * (k + 2) / 2);
+        auto at = [&](std::size_t a, std::size_t b) -> VH& {
+            return row[b * (k + 1) - b * (b - 1) / 2 + a];  // rows of k+1, k, ..., 1 points
+        };
+        for (std::size_t b = 0; b <= k; ++b)
+            for (std::size_t a = 0; a + b <= k; ++a) {
+                if (b == 0)
+                    at(a, b) = edge_point(v[0], v[1], a, k);
+                else if (a == 0)
+                    at(a, b) = edge_point(v[0], v[2], b, k);
+                else if (a + b == k)
+                    at(a, b) = edge_point(v[1], v[2], b, k);
+                else
+                    at(a, b) = add(w_.point[v[0]] +
+                                   (double(a) / double(k)) * (w_.point[v[1]] - w_.point[v[0]]) +
+                                   (double(b) / double(k)) * (w_.point[v[2]] - w_.point[v[0]]));
+            }
+        for (std::size_t b = 0; b < k; ++b)
+            for (std::size_t a = 0; a + b < k; ++a) {
+                face(f, {at(a, b), at(a + 1, b), at(a, b + 1)});
+                if (a + b + 1 < k) face(f, {at(a + 1, b), at(a + 1, b + 1), at(a, b + 1)});
+            }
+    }
+
+    const Mesh<S>& in_;
+    const Welded& w_;
+    const EdgeSplits& e_;
+    Mesh<S> out_;
+    std::vector<VH> corner_;
+    std::map<std::pair<std::size_t, std::size_t>, VH> on_edge_;
+};
+
+}  // namespace detail
+
+/// Conforming subdivision (see the file comment): returns a new mesh whose edges are at most
+/// max_edge long, where coincident input vertices (within 1e-9 of the scene's size) are merged
+/// first so that faces meeting along a geometric edge share the new vertices too. Children keep
+/// their parent's data (E, R, material, surface) and orientation. max_edge = 0 returns a copy.
+/// Throws Error for a negative or non-finite max_edge, or when more than max_faces would result.
+/// Cost: O(output size + n log n).
+template <SpectrumType S>
+Mesh<S> subdivide(const Mesh<S>& mesh, const SubdivisionOptions& options = {}) {
+    if (!std::isfinite(options.max_edge) || options.max_edge < 0.0)
+        throw Error("subdivision: max edge must be a finite length >= 0, not " +
+                    std::to_string(options.max_edge));
+    if (options.max_edge == 0.0) return mesh;
+    Vec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (auto v : mesh.vertices()) {
+        const auto& p = mesh.point(v);
+        lo = glm::min(lo, Vec3(p[0], p[1], p[2]));
+        hi = glm::max(hi, Vec3(p[0], p[1], p[2]));
+    }
+    const double eps = mesh.n_vertices() > 0 ? 1e-9 * glm::length(hi - lo) : 0.0;
+    const detail::Welded w = detail::weld(mesh, eps);
+    const detail::EdgeSplits e = detail::split_edges(w, options.max_edge);
+    double faces = 0.0;
+    for (std::size_t f = 0; f < w.face.size(); ++f) {
+        const auto& ids = e.face_edges[f];
+        faces += ids.size() == 4 ? double(e.segments[ids[0]]) * double(e.segments[ids[1]])
+                                 : double(e.segments[ids[0]]) * double(e.segments[ids[0]]);
+    }
+    if (faces > double(options.max_faces))
+        throw Error("subdivision: max edge " + std::to_string(options.max_edge) + " would make " +
+                    std::to_string(static_cast<long long>(faces)) + " patches (more than " +
+                    std::to_string(options.max_faces) + ")");
+    return detail::SubdivisionBuilder<S>(mesh, w, e).build();
+}
+
+}  // namespace radiosity
