@@ -1,0 +1,93 @@
+// Reading OBJ + MTL: polygons kept, Kd as reflectance and Ke as emission, and every kind of bad
+// input refused with a one-line message naming the file (and the line where it can).
+#include <radiosity/io/obj.hpp>
+
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+using namespace radiosity;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string data(const std::string& name) {
+    return std::string(RADIOSITY_TEST_DATA_DIR) + "/" + name;
+}
+
+/// A scratch folder for files written by a test, removed at the end.
+struct Scratch {
+    fs::path dir = fs::temp_directory_path() / ("radiosity_obj_test_" + std::to_string(::getpid()));
+    Scratch() { fs::create_directories(dir); }
+    ~Scratch() { fs::remove_all(dir); }
+    std::string write(const std::string& name, const std::string& text) const {
+        std::ofstream(dir / name) << text;
+        return (dir / name).string();
+    }
+};
+
+/// The message of the Error that reading `path` throws ("" if none).
+std::string error_of(const std::string& path) {
+    try {
+        const auto scene = read_obj<Rgb>(path);
+        build_mesh(scene);
+    } catch (const Error& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST_CASE("two squares: polygons kept, Kd and Ke read, default material where none") {
+    const Scene<Rgb> s = read_obj<Rgb>(data("cli_two_squares.obj"));
+    REQUIRE(s.faces.size() == 2);
+    CHECK(s.faces[0].size() == 4);  // a quad stays a quad
+    CHECK(s.positions.size() == 8);
+    const auto& lamp = s.materials[s.face_material[0]];
+    const auto& grey = s.materials[s.face_material[1]];
+    CHECK(lamp.name == "lamp");
+    CHECK(lamp.emission == Rgb(1.0f, 2.0f, 3.0f));
+    CHECK(lamp.reflectance == Rgb(0.5f));
+    CHECK(grey.reflectance == Rgb(0.5f, 0.25f, 0.75f));
+    CHECK(grey.emission == Rgb(0.0f));
+    CHECK_NOTHROW(build_mesh(s));
+
+    Scratch scratch;
+    const auto plain = scratch.write("plain.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    const Scene<float> g = read_obj<float>(plain);
+    REQUIRE(g.faces.size() == 1);
+    CHECK(g.materials[g.face_material[0]].reflectance == 0.5f);
+    CHECK(g.materials[g.face_material[0]].emission == 0.0f);
+}
+
+TEST_CASE("bad OBJ input: one line, naming the file and what is wrong") {
+    Scratch scratch;
+    struct Bad {
+        std::string path, expect;
+    };
+    const std::vector<Bad> cases{
+        {data("cli_bad_reflectance.obj"), "Kd 1.2"},
+        {data("cli_bad_index.obj"), "out of bounds (line 4"},
+        {data("cli_zero_area.obj"), "zero area"},
+        {scratch.dir.string() + "/missing.obj", "no such file"},
+        {scratch.write("no_mtl.obj", "mtllib nowhere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
+         "nowhere.mtl"},
+        {scratch.write("two.obj", "v 0 0 0\nv 1 0 0\nf 1 2\n"), "Degenerated face"},
+        {scratch.write("nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n"), "nan.obj"},
+        {scratch.write("empty.obj", "# nothing\n"), "no faces"},
+        {scratch.write("neg.obj", "mtllib neg.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl m\nf 1 2 3\n"),
+         "Ke -1"},
+    };
+    scratch.write("neg.mtl", "newmtl m\nKd 0.5 0.5 0.5\nKe -1 0 0\n");
+    for (const Bad& b : cases) {
+        CAPTURE(b.path);
+        const std::string message = error_of(b.path);
+        CHECK_MESSAGE(message.find(b.expect) != std::string::npos, message);
+        CHECK_MESSAGE(message.find(fs::path(b.path).filename().string()) != std::string::npos,
+                      message);
+        CHECK(message.find('\n') == std::string::npos);
+    }
+}
