@@ -32,6 +32,7 @@ struct Args {
     bool flat = false;
     double exposure = 0.0;
     int resolution = 0;  // 0: the hemicube's default
+    int samples = 0;     // 0: the ray-cast method's default
     std::string ply, dump_form_factors, dump_patches;
     bool quiet = false;
 };
@@ -144,7 +145,7 @@ void write_patches(const std::string& path, const radiosity::SolveResult<Colour>
     if (!out) throw radiosity::Error(path + ": write failed");
 }
 
-int run(const Args& a, bool no_arguments) {
+int run(const Args& a) {
     const auto t0 = std::chrono::steady_clock::now();
     ProgressBar bar(a.quiet);
     const auto scene = load_scene(a.scene);
@@ -155,6 +156,7 @@ int run(const Args& a, bool no_arguments) {
     o.subdivision.max_edge = a.max_edge >= 0.0 ? a.max_edge : scene_diagonal(scene) / 30.0;
     o.tolerance = a.tolerance;
     if (a.resolution > 0) o.hemicube.resolution = a.resolution;
+    if (a.samples > 0) o.ray_cast.samples = a.samples;
     o.keep_form_factors = !a.dump_form_factors.empty();
     o.progress = [&bar](const radiosity::Progress& p) { return bar(p); };
     const auto result = radiosity::solve(scene, o);
@@ -163,7 +165,14 @@ int run(const Args& a, bool no_arguments) {
     if (o.keep_form_factors) write_form_factors(a.dump_form_factors, *result.form_factors);
     if (!a.dump_patches.empty()) write_patches(a.dump_patches, result);
 
-    const std::string image = no_arguments ? "cornell_box.png" : a.image;
+    // Without any output named, a picture: cornell_box.png for the Cornell box, else the
+    // scene's name with .png (in the current folder).
+    const bool no_output =
+        a.image.empty() && a.ply.empty() && a.dump_patches.empty() && a.dump_form_factors.empty();
+    const std::string image = !no_output ? a.image
+                              : a.scene == "cornell"
+                                  ? "cornell_box.png"
+                                  : std::filesystem::path(a.scene).stem().string() + ".png";
     const radiosity::ShadedMesh shaded =
         a.flat ? radiosity::flat_shading(result.mesh) : radiosity::smooth_shading(result.mesh);
     radiosity::ToneMapOptions tone;
@@ -174,7 +183,7 @@ int run(const Args& a, bool no_arguments) {
         radiosity::write_png(picture, image, tone);
     }
     if (!a.ply.empty())
-        radiosity::write_ply(shaded, a.ply, radiosity::exposure_scale(shaded.colours, tone) / M_PI);
+        radiosity::write_ply(shaded, a.ply, radiosity::exposure_scale(shaded.colours, tone));
 
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -209,7 +218,7 @@ int main(int argc, char** argv) {
                }())
         ->capture_default_str();
     app.add_option("--form-factor", a.form_factor, "form-factor method")
-        ->check(CLI::IsMember({"analytic", "hemicube"}))
+        ->check(CLI::IsMember({"analytic", "hemicube", "raycast"}))
         ->capture_default_str();
     app.add_option("--solver", a.solver, "solver")
         ->check(CLI::IsMember({"jacobi", "gauss-seidel", "progressive", "direct"}))
@@ -223,6 +232,8 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--resolution", a.resolution, "hemicube resolution in pixels (default 128)")
         ->check(CLI::Range(8, 4096));
+    app.add_option("--samples", a.samples, "ray-cast sample pairs per patch pair (default 16)")
+        ->check(CLI::Range(1, 65536));
     app.add_option("--image", a.image,
                    "write a PNG picture (Cornell box camera, or one that frames the scene)");
     app.add_option("--width", a.width, "image width")
@@ -232,6 +243,7 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 16384))
         ->capture_default_str();
     app.add_option("--exposure", a.exposure, "exposure compensation in stops")
+        ->check(CLI::Range(-64.0, 64.0))
         ->capture_default_str();
     app.add_flag("--flat", a.flat, "flat shading (one colour per patch) instead of smooth");
     app.add_option("--ply", a.ply, "write the shaded mesh as PLY with 8-bit sRGB vertex colours");
@@ -242,10 +254,12 @@ int main(int argc, char** argv) {
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        if (e.get_exit_code() == 0) return app.exit(e);  // --help
+        std::fprintf(stderr, "radiosity: error: %s (see --help)\n", e.what());
+        return 2;
     }
     try {
-        return run(a, argc == 1);
+        return run(a);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "radiosity: error: %s\n", e.what());
         return 1;

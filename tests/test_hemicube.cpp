@@ -95,7 +95,7 @@ TEST_CASE("hemicube rows of a closed box sum to 1 and match the exact matrix to 
         }
 }
 
-TEST_CASE("a screen between two squares hides them from each other; its back absorbs") {
+TEST_CASE("a screen between two squares hides them from each other, its back absorbs") {
     PatchTable t;
     t.add(square(0, 0, 0, 1, true));   // 0: floor, faces up
     t.add(square(0, 0, 2, 1, false));  // 1: ceiling, faces down

@@ -116,7 +116,7 @@ TEST_CASE("triangles split into k^2 triangles, conforming with their neighbours"
     CHECK(longest_edge(sub) <= 0.3 + 1e-12);
 }
 
-TEST_CASE("max_edge 0 keeps the mesh; bad values and explosions are refused") {
+TEST_CASE("max_edge 0 keeps the mesh, bad values and explosions are refused") {
     const auto mesh = build_mesh(separate_cube());
     CHECK(subdivide(mesh, {0.0}).n_faces() == 6);
     CHECK_THROWS_AS(subdivide(mesh, {-1.0}), Error);

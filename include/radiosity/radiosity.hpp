@@ -7,8 +7,12 @@
 #include <radiosity/form_factor/analytic.hpp>
 #include <radiosity/form_factor/hemicube.hpp>
 #include <radiosity/form_factor/matrix.hpp>
+#include <radiosity/form_factor/ray_cast.hpp>
+#include <radiosity/form_factor/visibility.hpp>
+#include <radiosity/geometry/bvh.hpp>
 #include <radiosity/geometry/polygon.hpp>
 #include <radiosity/geometry/raster.hpp>
+#include <radiosity/geometry/sampling.hpp>
 #include <radiosity/geometry/vec.hpp>
 #include <radiosity/io/image.hpp>
 #include <radiosity/io/obj.hpp>
@@ -23,6 +27,7 @@
 #include <radiosity/shading/tonemap.hpp>
 #include <radiosity/shading/vertex_shading.hpp>
 #include <radiosity/solve.hpp>
+#include <radiosity/solver/common.hpp>
 #include <radiosity/solver/direct.hpp>
 #include <radiosity/solver/gauss_seidel.hpp>
 #include <radiosity/solver/jacobi.hpp>

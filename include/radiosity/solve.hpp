@@ -8,6 +8,7 @@
 #include <radiosity/form_factor/analytic.hpp>
 #include <radiosity/form_factor/hemicube.hpp>
 #include <radiosity/form_factor/matrix.hpp>
+#include <radiosity/form_factor/ray_cast.hpp>
 #include <radiosity/mesh/mesh.hpp>
 #include <radiosity/mesh/subdivide.hpp>
 #include <radiosity/progress.hpp>
@@ -17,6 +18,7 @@
 #include <radiosity/solver/progressive.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <variant>
@@ -24,7 +26,7 @@
 namespace radiosity {
 
 /// Which form-factor method solve() uses.
-enum class FormFactorKind { analytic, hemicube };
+enum class FormFactorKind { analytic, hemicube, ray_cast };
 /// Which solver solve() uses.
 enum class SolverKind { jacobi, gauss_seidel, progressive, direct };
 
@@ -37,6 +39,7 @@ struct SolveOptions {
     std::size_t max_iterations = 0;  ///< iteration guard; 0: the solver's default
     AnalyticOptions analytic{};      ///< settings of the analytic method
     HemicubeOptions hemicube{};      ///< settings of the hemicube method
+    RayCastOptions ray_cast{};       ///< settings of the ray-cast method
     bool keep_form_factors = false;  ///< return the assembled matrix (n^2 floats)
     ProgressCallback progress{};     ///< phases "form factors" and "solve"; return false to cancel
 };
@@ -52,11 +55,13 @@ struct SolveResult {
     std::optional<DenseMatrix> form_factors;  ///< F, when keep_form_factors was set
 };
 
-/// Parses a form-factor method name: "analytic" or "hemicube". Throws Error otherwise.
+/// Parses a form-factor method name: "analytic", "hemicube" or "raycast". Throws Error
+/// otherwise.
 inline FormFactorKind parse_form_factor_kind(const std::string& name) {
     if (name == "analytic") return FormFactorKind::analytic;
     if (name == "hemicube") return FormFactorKind::hemicube;
-    throw Error("unknown form-factor method '" + name + "' (known: analytic, hemicube)");
+    if (name == "raycast" || name == "ray-cast") return FormFactorKind::ray_cast;
+    throw Error("unknown form-factor method '" + name + "' (known: analytic, hemicube, raycast)");
 }
 
 /// Parses a solver name: "jacobi", "gauss-seidel", "progressive" or "direct". Throws Error
@@ -126,17 +131,30 @@ void solve_with(SolveResult<S>& result, const System<S>& system, M& method, cons
 /// Error on bad input and Cancelled if the progress callback stops the form factors.
 template <SpectrumType S>
 SolveResult<S> solve(const Mesh<S>& scene, const SolveOptions& options = {}) {
+    if (!(options.tolerance > 0.0) || !std::isfinite(options.tolerance))
+        throw Error("solve: tolerance must be a positive number, not " +
+                    std::to_string(options.tolerance));
     SolveResult<S> result{subdivide(scene, options.subdivision), {}, {}, 0.0, std::nullopt};
     result.patches = make_patch_table(result.mesh);
     const std::vector<S> E = face_emission(result.mesh), R = face_reflectance(result.mesh);
     const System<S> system{E, R, result.patches.areas()};
     system.validate();
-    if (options.form_factor == FormFactorKind::analytic) {
-        Analytic method(options.analytic);
-        detail::solve_with(result, system, method, options);
-    } else {
-        Hemicube method(options.hemicube);
-        detail::solve_with(result, system, method, options);
+    switch (options.form_factor) {
+        case FormFactorKind::analytic: {
+            Analytic method(options.analytic);
+            detail::solve_with(result, system, method, options);
+            break;
+        }
+        case FormFactorKind::hemicube: {
+            Hemicube method(options.hemicube);
+            detail::solve_with(result, system, method, options);
+            break;
+        }
+        case FormFactorKind::ray_cast: {
+            RayCast method(options.ray_cast);
+            detail::solve_with(result, system, method, options);
+            break;
+        }
     }
     return result;
 }

@@ -13,7 +13,7 @@
 
 namespace radiosity {
 
-/// Exposure settings: display value = exposure_scale * 2^stops * B / pi, then clamped to [0, 1].
+/// Exposure settings: display value = exposure_scale(B values, options) * B, clamped to [0, 1].
 struct ToneMapOptions {
     double stops = 0.0;         ///< exposure compensation in photographic stops
     bool auto_exposure = true;  ///< choose the scale from the image (see auto_exposure_scale)
@@ -49,9 +49,13 @@ inline double auto_exposure_scale(std::span<const glm::vec3> linear) {
     return 0.8 / static_cast<double>(lum[static_cast<std::size_t>(k)]);
 }
 
-/// The display scale for linear values under the given options: auto or fixed, times 2^stops.
-inline double exposure_scale(std::span<const glm::vec3> linear, const ToneMapOptions& o) {
-    return (o.auto_exposure ? auto_exposure_scale(linear) : o.scale) * std::exp2(o.stops);
+/// The factor that turns radiant exitance B into display values under the given options:
+/// with auto exposure, the one that maps the image's 95th percentile to 0.8 (see above); with
+/// a fixed scale, scale / pi (radiance L = B / pi of a Lambertian surface); times 2^stops.
+inline double exposure_scale(std::span<const glm::vec3> exitance, const ToneMapOptions& o) {
+    const double base =
+        o.auto_exposure ? auto_exposure_scale(exitance) : o.scale / std::numbers::pi;
+    return base * std::exp2(o.stops);
 }
 
 }  // namespace radiosity

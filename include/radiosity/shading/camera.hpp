@@ -1,0 +1,103 @@
+#pragma once
+/// @file camera.hpp  Pictures of a shaded mesh: a pinhole camera, the library's rasteriser with a
+/// z-buffer, and Gouraud interpolation of the vertex colours (Gouraud 1971), perspective-correct.
+/// Pixels hold linear radiant exitance B; io/image.hpp tone-maps and writes them.
+
+#include <radiosity/error.hpp>
+#include <radiosity/geometry/raster.hpp>
+#include <radiosity/shading/shaded_mesh.hpp>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <vector>
+
+namespace radiosity {
+
+/// A pinhole camera: where it is, what it looks at, which way is up, the vertical field of view.
+struct Camera {
+    Vec3 eye{0.0, 0.0, 1.0};      ///< centre of projection
+    Vec3 target{0.0, 0.0, 0.0};   ///< a point on the line of sight
+    Vec3 up{0.0, 1.0, 0.0};       ///< the picture's up direction (need not be orthogonal)
+    double fov_y_degrees = 40.0;  ///< vertical field of view, in (0, 180)
+};
+
+/// A picture of linear RGB values, row 0 at the top.
+struct Image {
+    int width = 0;                  ///< pixels per row
+    int height = 0;                 ///< rows
+    std::vector<glm::vec3> pixels;  ///< width * height values, row after row
+    /// The pixel in column x of row y.
+    glm::vec3& at(int x, int y) { return pixels[static_cast<std::size_t>(y) * width + x]; }
+    const glm::vec3& at(int x, int y) const {
+        return pixels[static_cast<std::size_t>(y) * width + x];
+    }
+};
+
+/// Settings of a rendering.
+struct RenderOptions {
+    int width = 512;             ///< picture width in pixels, 1..16384
+    int height = 512;            ///< picture height in pixels, 1..16384
+    glm::vec3 background{0.0f};  ///< value where nothing is seen
+};
+
+namespace detail {
+inline void check_view(const Camera& c, const RenderOptions& o) {
+    if (o.width < 1 || o.width > 16384 || o.height < 1 || o.height > 16384)
+        throw Error("render: width and height must be in [1, 16384], not " +
+                    std::to_string(o.width) + " x " + std::to_string(o.height));
+    if (!(c.fov_y_degrees > 0.0 && c.fov_y_degrees < 180.0))
+        throw Error("render: field of view must be in (0, 180) degrees");
+    const Vec3 view = c.target - c.eye;
+    if (!(glm::length(view) > 0.0)) throw Error("render: camera eye and target coincide");
+    if (!(glm::length(glm::cross(view, c.up)) > 1e-12 * glm::length(view) * glm::length(c.up)))
+        throw Error("render: camera up is parallel to the view direction");
+}
+
+/// Near and far planes that hold the whole mesh: far beyond its farthest point along the view,
+/// near a small fraction of that (double-precision depth keeps the ratio harmless).
+inline std::pair<double, double> depth_range(const ShadedMesh& m, const glm::dmat4& view) {
+    double far = 0.0;
+    for (const Vec3& p : m.positions) far = std::max(far, -(view * glm::dvec4(p, 1.0)).z);
+    far = far > 0.0 ? 1.01 * far : 1.0;
+    return {far * 1e-6, far};
+}
+}  // namespace detail
+
+/// Renders the mesh as the camera sees it: every triangle through the shared rasteriser
+/// (near-plane clipping, top-left rule), nearest surface kept per pixel, vertex colours
+/// interpolated perspective-correctly. No back-face culling (a patch seen from behind shows its
+/// colour). Throws Error for bad options. Cost: O(triangles + covered pixels).
+inline Image render(const ShadedMesh& mesh, const Camera& camera,
+                    const RenderOptions& options = {}) {
+    detail::check_view(camera, options);
+    const glm::dmat4 view = glm::lookAt(camera.eye, camera.target, camera.up);
+    const auto [near, far] = detail::depth_range(mesh, view);
+    const glm::dmat4 clip = perspective(camera.fov_y_degrees * std::numbers::pi / 180.0,
+                                        double(options.width) / options.height, near, far) *
+                            view;
+    Image image{
+        options.width, options.height,
+        std::vector<glm::vec3>(std::size_t(options.width) * options.height, options.background)};
+    std::vector<double> depth(image.pixels.size(), std::numeric_limits<double>::infinity());
+    for (const auto& t : mesh.triangles) {
+        const std::array<Vec4, 3> p{clip * Vec4(mesh.positions[t[0]], 1.0),
+                                    clip * Vec4(mesh.positions[t[1]], 1.0),
+                                    clip * Vec4(mesh.positions[t[2]], 1.0)};
+        rasterize_triangle(p, options.width, options.height, [&](const Fragment& f) {
+            const std::size_t at = std::size_t(f.y) * options.width + f.x;
+            if (f.depth >= depth[at]) return;
+            depth[at] = f.depth;
+            image.pixels[at] = glm::vec3(f.weight.x * glm::dvec3(mesh.colours[t[0]]) +
+                                         f.weight.y * glm::dvec3(mesh.colours[t[1]]) +
+                                         f.weight.z * glm::dvec3(mesh.colours[t[2]]));
+        });
+    }
+    return image;
+}
+
+}  // namespace radiosity
