@@ -1,0 +1,130 @@
+// Flat and smooth shading against hand-computed values and identities (a uniform B stays
+// uniform; no averaging across creases or materials), and the PLY writer read back by OpenMesh.
+#include <radiosity/io/ply.hpp>
+#include <radiosity/mesh/mesh.hpp>
+#include <radiosity/shading/vertex_shading.hpp>
+
+#include <doctest/doctest.h>
+
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+
+#include <filesystem>
+#include <unistd.h>
+
+using namespace radiosity;
+
+namespace {
+
+/// The mesh of a scene with B set per face.
+Mesh<float> mesh_with(const Scene<float>& s, const std::vector<float>& B) {
+    Mesh<float> m = build_mesh(s);
+    set_face_radiosity<float>(m, B);
+    return m;
+}
+
+/// Two unit squares side by side in the plane z = 0, sharing the edge x = 1.
+Scene<float> two_squares(bool same_material = true, double fold_degrees = 0.0) {
+    Scene<float> s;
+    const double a = fold_degrees * std::numbers::pi / 180.0;
+    s.positions = {{0, 0, 0},
+                   {1, 0, 0},
+                   {1, 1, 0},
+                   {0, 1, 0},
+                   {1 + std::cos(a), 0, std::sin(a)},
+                   {1 + std::cos(a), 1, std::sin(a)}};
+    s.faces = {{0, 1, 2, 3}, {1, 4, 5, 2}};
+    s.face_material = {0, same_material ? 0u : 1u};
+    s.materials = {{0.0f, 0.5f, "a"}, {0.0f, 0.5f, "b"}};
+    return s;
+}
+
+/// The colour of the output vertex at position p that belongs to a triangle touching face f
+/// (identified by a point strictly inside it).
+glm::vec3 colour_at(const ShadedMesh& m, const Vec3& p, const Vec3& inside) {
+    for (const auto& t : m.triangles) {
+        Vec3 c(0.0);
+        for (auto v : t) c += m.positions[v] / 3.0;
+        for (auto v : t)
+            if (glm::distance(m.positions[v], p) < 1e-12 && glm::distance(c, inside) < 0.5)
+                return m.colours[v];
+    }
+    FAIL("no such vertex");
+    return {};
+}
+
+}  // namespace
+
+TEST_CASE("flat shading gives every patch its own colour at its own vertices") {
+    const auto m = mesh_with(two_squares(), {1.0f, 3.0f});
+    const ShadedMesh s = flat_shading(m);
+    CHECK(s.positions.size() == 8);
+    CHECK(s.triangles.size() == 4);
+    CHECK(colour_at(s, {1, 0, 0}, {0.5, 0.5, 0}) == glm::vec3(1.0f));
+    CHECK(colour_at(s, {1, 0, 0}, {1.5, 0.5, 0}) == glm::vec3(3.0f));
+}
+
+TEST_CASE("smooth shading: area-weighted means at shared vertices, none across creases") {
+    // Flat neighbours: the shared vertices get (1 * 1 + 1 * 3) / 2 = 2; the outer ones keep B.
+    const ShadedMesh flat = smooth_shading(mesh_with(two_squares(), {1.0f, 3.0f}));
+    CHECK(flat.positions.size() == 6);  // one output vertex per mesh vertex
+    CHECK(colour_at(flat, {1, 0, 0}, {0.5, 0.5, 0}).r == doctest::Approx(2.0));
+    CHECK(colour_at(flat, {0, 0, 0}, {0.5, 0.5, 0}).r == doctest::Approx(1.0));
+    CHECK(colour_at(flat, {2, 0, 0}, {1.5, 0.5, 0}).r == doctest::Approx(3.0));
+
+    // Unequal areas: a 1 x 1 and a 2 x 1 patch give (1 * 1 + 2 * 4) / 3 = 3 at the shared edge.
+    Scene<float> s = two_squares();
+    s.positions[4] = {3, 0, 0};
+    s.positions[5] = {3, 1, 0};
+    const ShadedMesh weighted = smooth_shading(mesh_with(s, {1.0f, 4.0f}));
+    CHECK(colour_at(weighted, {1, 1, 0}, {0.5, 0.5, 0}).r == doctest::Approx(3.0));
+
+    // A 90-degree fold (sharper than the 30-degree crease angle) and a material change both
+    // keep the two patches apart: each side keeps its own B.
+    for (const ShadedMesh& apart :
+         {smooth_shading(mesh_with(two_squares(true, 90.0), {1.0f, 3.0f})),
+          smooth_shading(mesh_with(two_squares(false), {1.0f, 3.0f}))}) {
+        CHECK(apart.positions.size() == 8);
+        CHECK(colour_at(apart, {1, 0, 0}, {0.5, 0.5, 0}).r == doctest::Approx(1.0));
+    }
+    // A gentle 20-degree fold is smoothed over.
+    const ShadedMesh gentle = smooth_shading(mesh_with(two_squares(true, 20.0), {1.0f, 3.0f}));
+    CHECK(gentle.positions.size() == 6);
+}
+
+TEST_CASE("smooth shading keeps a uniform radiosity uniform") {
+    Scene<float> s;  // a 3 x 3 grid of quads
+    for (int y = 0; y <= 3; ++y)
+        for (int x = 0; x <= 3; ++x) s.positions.emplace_back(x * 0.7, y * 1.3, 0.0);
+    for (std::uint32_t y = 0; y < 3; ++y)
+        for (std::uint32_t x = 0; x < 3; ++x)
+            s.faces.push_back({y * 4 + x, y * 4 + x + 1, (y + 1) * 4 + x + 1, (y + 1) * 4 + x});
+    s.face_material.assign(9, 0);
+    s.materials = {{0.0f, 0.5f, "grey"}};
+    const ShadedMesh m = smooth_shading(mesh_with(s, std::vector<float>(9, 2.5f)));
+    CHECK(m.positions.size() == 16);
+    for (const auto& c : m.colours) CHECK(c == glm::vec3(2.5f));
+}
+
+TEST_CASE("PLY: written through OpenMesh, read back with clamped sRGB colours") {
+    ShadedMesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    m.colours = {glm::vec3(0.0f), glm::vec3(0.5f), glm::vec3(4.0f)};  // the last one too bright
+    m.triangles = {{0, 1, 2}};
+    const auto path = std::filesystem::temp_directory_path() /
+                      ("radiosity_ply_test_" + std::to_string(::getpid()) + ".ply");
+    write_ply(m, path.string(), 1.0);
+    OpenMesh::TriMesh_ArrayKernelT<> back;
+    back.request_vertex_colors();
+    OpenMesh::IO::Options o(OpenMesh::IO::Options::VertexColor);
+    REQUIRE(OpenMesh::IO::read_mesh(back, path.string(), o));
+    std::filesystem::remove(path);
+    REQUIRE(back.n_vertices() == 3);
+    REQUIRE(back.n_faces() == 1);
+    const auto c0 = back.color(back.vertex_handle(0)), c1 = back.color(back.vertex_handle(1)),
+               c2 = back.color(back.vertex_handle(2));
+    CHECK(int(c0[0]) == 0);
+    CHECK(int(c1[0]) == srgb8(0.5f));  // 188: the sRGB code of linear 0.5
+    CHECK(int(c1[0]) == 188);
+    CHECK(int(c2[0]) == 255);  // clamped, not wrapped round
+    CHECK_THROWS_AS(write_ply(m, "/no/such/folder/x.ply", 1.0), Error);
+}
