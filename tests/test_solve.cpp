@@ -7,6 +7,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <map>
+#include <string>
+
+#if defined(RADIOSITY_WITH_OPENMP)
+#include <omp.h>
+#endif
 
 using namespace radiosity;
 
@@ -49,6 +56,7 @@ TEST_CASE("every solver agrees with the direct solve on a coarse Cornell box to 
     SolveOptions o;
     o.subdivision.max_edge = 150.0;
     o.form_factor = FormFactorKind::analytic;
+    o.analytic.tolerance = 1e-3;  // F's accuracy is not what this test is about
     o.tolerance = 1e-7;
     o.solver = SolverKind::direct;
     const auto reference = solve(scene, o);
@@ -98,4 +106,77 @@ TEST_CASE("cancelling from the progress callback stops the form factors") {
     o.subdivision.max_edge = 100.0;
     o.progress = [](const Progress& p) { return p.phase != "form factors"; };
     CHECK_THROWS_AS(solve(scene, o), Cancelled);
+}
+
+namespace {
+
+/// Area-weighted mean B (all bands) of each wall and block of a solved Cornell box.
+std::map<std::string, double> wall_means(const SolveResult<Rgb>& r) {
+    std::map<std::string, double> sum, area;
+    for (auto f : r.mesh.faces()) {
+        const auto i = static_cast<std::size_t>(f.idx());
+        const Vec3 c = r.patches.centroid(i);
+        const Vec3 n = r.patches.normal(i);
+        std::string wall = c.y < 1e-6                          ? "floor"
+                           : c.z > 559.2 - 1e-6                ? "back"
+                           : c.x < 1e-6                        ? "green"
+                           : c.x > 549.0 && n.x < -0.9         ? "red"
+                           : c.y > 548.8 - 1e-6                ? "ceiling"
+                           : c.y > 165.0 + 1e-6 || c.x > 300.0 ? "tall block"
+                                                               : "short block";
+        if (max_abs(r.mesh.data(f).emission) > 0.0f) wall = "light";
+        const double a = r.patches.area(i);
+        sum[wall] += a * mean_band(r.mesh.data(f).radiosity);
+        area[wall] += a;
+    }
+    for (auto& [w, s] : sum) s /= area[w];
+    return sum;
+}
+
+}  // namespace
+
+TEST_CASE("Cornell box: ray-cast and hemicube agree within 2% in mean radiosity per wall") {
+    const auto scene = build_mesh(cornell_box<Rgb>());
+    SolveOptions o;
+    o.subdivision.max_edge = 60.0;
+    o.tolerance = 1e-6;
+    o.form_factor = FormFactorKind::hemicube;
+    const auto by_hemicube = wall_means(solve(scene, o));
+    o.form_factor = FormFactorKind::ray_cast;
+    const auto by_rays = wall_means(solve(scene, o));
+    REQUIRE(by_rays.size() == 8);
+    for (const auto& [wall, b] : by_hemicube) {
+        CAPTURE(wall);
+        CHECK(std::abs(by_rays.at(wall) - b) <= 0.02 * b);
+    }
+}
+
+TEST_CASE("results are bit-identical for 1 and 2 threads, for every method") {
+#if defined(RADIOSITY_WITH_OPENMP)
+    const auto scene = build_mesh(cornell_box<Rgb>());
+    for (FormFactorKind method :
+         {FormFactorKind::analytic, FormFactorKind::hemicube, FormFactorKind::ray_cast}) {
+        SolveOptions o;
+        o.subdivision.max_edge = 120.0;
+        o.form_factor = method;
+        o.analytic.tolerance = 1e-3;
+        o.solver = SolverKind::jacobi;  // its sweeps run in parallel too
+        o.keep_form_factors = true;
+        const int before = omp_get_max_threads();
+        omp_set_num_threads(1);
+        const auto one = solve(scene, o);
+        omp_set_num_threads(2);
+        const auto two = solve(scene, o);
+        omp_set_num_threads(before);
+        const std::size_t n = one.patches.size();
+        CHECK(std::memcmp(one.form_factors->row(0).data(), two.form_factors->row(0).data(),
+                          n * n * sizeof(float)) == 0);
+        bool same = true;
+        for (auto f : one.mesh.faces())
+            same = same && one.mesh.data(f).radiosity == two.mesh.data(f).radiosity;
+        CHECK(same);
+    }
+#else
+    MESSAGE("built without OpenMP: every run is single-threaded");
+#endif
 }

@@ -38,6 +38,16 @@ concept PairFormFactor = FormFactorMethod<M> &&
     { method.pair(i, j) } -> std::convertible_to<double>;
 };
 
+/// Optional capability of a pair method that is reciprocal by construction: `method.exchange(i,
+/// j)` = A_i F_ij = A_j F_ji (the same number both ways) and `method.area(i)` = A_i. Assembly
+/// then computes each pair once and fills both F_ij and F_ji, halving the work.
+template <class M>
+concept ReciprocalFormFactor = PairFormFactor<M> &&
+    requires(const M& method, std::size_t i, std::size_t j) {
+    { method.exchange(i, j) } -> std::convertible_to<double>;
+    { method.area(i) } -> std::convertible_to<double>;
+};
+
 /// An assembled form-factor matrix (dense or sparse): its size, and a visit of the non-zero
 /// entries of row i as f(j, F_ij).
 template <class Mx>

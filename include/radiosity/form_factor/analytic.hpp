@@ -142,7 +142,11 @@ double adaptive(const F& f, const Vec3& a, const Vec3& b, const Vec3& c, double 
     for (std::size_t k = 0; k < 4; ++k)
         part[k] = triangle_rule(f, child[k][0], child[k][1], child[k][2], q);
     const double fine = part[0] + part[1] + part[2] + part[3];
-    if (depth >= o.max_depth || std::abs(fine - coarse) <= o.tolerance * std::abs(fine))
+    // Relative test, with an absolute floor far below anything that matters (1e-9 of the
+    // triangle's area): pairs whose exchange is nearly zero, such as neighbours on a slightly
+    // non-planar wall, would otherwise refine to the depth limit chasing rounding noise.
+    if (depth >= o.max_depth ||
+        std::abs(fine - coarse) <= o.tolerance * std::max(std::abs(fine), 1e-3 * area))
         return fine;
     double sum = 0.0;
     for (std::size_t k = 0; k < 4; ++k)
@@ -175,11 +179,17 @@ inline bool facing(const PatchTable& t, std::size_t a, std::size_t b) {
 /// 35 contour integrals per fan triangle for well-separated polygons, more near shared edges.
 inline double exchange_integral(std::span<const Vec3> a, const Vec3& n_a, std::span<const Vec3> b,
                                 const AnalyticOptions& options = {}) {
+    // Only the part of a in front of b's plane sees b's front: there the integrand is smooth;
+    // across b's plane it jumps to 0 (e.g. a floor patch under a block's side), and a jump
+    // inside a triangle would send the adaptive quadrature to its depth limit.
+    const std::vector<Vec3> front = clip_to_plane(a, b[0], polygon_normal(b));
+    if (front.size() < 3) return 0.0;
     const detail::PointToPolygon f{n_a, b};
     double sum = 0.0;
-    for (std::size_t k = 1; k + 1 < a.size(); ++k) {  // fan of the convex polygon a
-        const Vec3 &p = a[0], &q = a[k], &r = a[k + 1];
+    for (std::size_t k = 1; k + 1 < front.size(); ++k) {  // fan of the convex clipped polygon
+        const Vec3 &p = front[0], &q = front[k], &r = front[k + 1];
         const double area = 0.5 * glm::length(glm::cross(q - p, r - p));
+        if (area == 0.0) continue;
         sum +=
             detail::adaptive(f, p, q, r, area, detail::triangle_rule(f, p, q, r, area), options, 1);
     }
@@ -212,15 +222,20 @@ class Analytic {
     }
 
     /// F_ij for one pair (0 for i == j, planar patches do not see themselves).
-    double pair(std::size_t i, std::size_t j) const {
+    double pair(std::size_t i, std::size_t j) const { return exchange(i, j) / table().area(i); }
+
+    /// The exchange A_i F_ij = A_j F_ji: the same number both ways (ReciprocalFormFactor).
+    double exchange(std::size_t i, std::size_t j) const {
         if (i == j) return 0.0;
         const PatchTable& t = table();
         const bool outer_is_i = t.area(i) < t.area(j) || (t.area(i) == t.area(j) && i < j);
         const std::size_t outer = outer_is_i ? i : j, inner = outer_is_i ? j : i;
-        const double exchange = area_integral(outer, inner);
-        if (exchange == 0.0 || !bvh_) return exchange / t.area(i);
-        return exchange * visibility(outer, inner) / t.area(i);
+        const double x = area_integral(outer, inner);
+        if (x == 0.0 || !bvh_) return x;
+        return x * visibility(outer, inner);
     }
+
+    double area(std::size_t i) const { return table().area(i); }  ///< A_i
 
     /// Row i: F_ij for every patch j (RowSource).
     void row(std::size_t i, std::span<float> out) const {
@@ -259,6 +274,6 @@ class Analytic {
     std::shared_ptr<const Bvh> bvh_;  // only with visibility_samples > 0
 };
 
-static_assert(PairFormFactor<Analytic>);
+static_assert(ReciprocalFormFactor<Analytic>);
 
 }  // namespace radiosity

@@ -122,10 +122,22 @@ void for_each_row(std::size_t n, const ProgressCallback& progress, Body&& body) 
 }  // namespace detail
 
 /// Assembles the dense n x n matrix, one row per patch. Cost: n rows of the method.
+/// A method that is reciprocal by construction (ReciprocalFormFactor) computes each pair once:
+/// row i fills F_ij and F_ji for j > i, from the exchange A_i F_ij = A_j F_ji.
 template <FormFactorMethod M>
 DenseMatrix assemble_dense(const M& method, std::size_t n, const ProgressCallback& progress = {}) {
     DenseMatrix F(n);
-    detail::for_each_row(n, progress, [&](std::size_t i) { method.row(i, F.row(i)); });
+    if constexpr (ReciprocalFormFactor<M>) {
+        detail::for_each_row(n, progress, [&](std::size_t i) {
+            for (std::size_t j = i + 1; j < n; ++j) {
+                const double x = method.exchange(i, j);
+                F.row(i)[j] = static_cast<float>(x / method.area(i));
+                F.row(j)[i] = static_cast<float>(x / method.area(j));
+            }
+        });
+    } else {
+        detail::for_each_row(n, progress, [&](std::size_t i) { method.row(i, F.row(i)); });
+    }
     return F;
 }
 

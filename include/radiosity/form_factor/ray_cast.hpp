@@ -29,10 +29,10 @@ namespace radiosity {
 
 /// Settings of the ray-cast method.
 struct RayCastOptions {
-    int samples = 16;            ///< sample pairs per patch pair (rounded up to a square, k x k)
-    int penumbra_samples = 256;  ///< sample pairs for a pair whose first rays disagree
-    std::uint64_t seed = 1;      ///< seed of every pair's random stream
-    BvhOptions bvh{};            ///< build settings of the acceleration structure
+    int samples = 16;           ///< sample pairs per patch pair (rounded up to a square, k x k)
+    int penumbra_samples = 64;  ///< sample pairs for a pair whose first rays disagree
+    std::uint64_t seed = 1;     ///< seed of every pair's random stream
+    BvhOptions bvh{};           ///< build settings of the acceleration structure
 };
 
 namespace detail {
@@ -75,7 +75,12 @@ class RayCast {
     }
 
     /// F_ij for one pair (0 for i == j).
-    double pair(std::size_t i, std::size_t j) const {
+    double pair(std::size_t i, std::size_t j) const { return exchange(i, j) / table().area(i); }
+
+    double area(std::size_t i) const { return table().area(i); }  ///< A_i
+
+    /// The exchange A_i F_ij = A_j F_ji: the same number both ways (ReciprocalFormFactor).
+    double exchange(std::size_t i, std::size_t j) const {
         if (i == j) return 0.0;
         const PatchTable& t = table();
         const bool outer_is_i = t.area(i) < t.area(j) || (t.area(i) == t.area(j) && i < j);
@@ -92,7 +97,7 @@ class RayCast {
         if (exchange > 0.0)
             exchange *= pair_visible_fraction(*bvh_, t, outer, inner, xs, ys,
                                               options_.penumbra_samples, rng);
-        return exchange / t.area(i);
+        return exchange;
     }
 
     /// Row i: F_ij for every patch j (RowSource).
@@ -124,6 +129,6 @@ class RayCast {
     std::vector<double> radius_;  // distance from each centroid to its farthest vertex
 };
 
-static_assert(PairFormFactor<RayCast>);
+static_assert(ReciprocalFormFactor<RayCast>);
 
 }  // namespace radiosity
