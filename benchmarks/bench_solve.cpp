@@ -1,14 +1,15 @@
 // End-to-end time of radiosity::solve on the built-in Cornell box at about 1k, 4k and 16k
-// patches: subdivision, form factors (hemicube at its default resolution, and analytic at 1k),
-// Gauss-Seidel. The patch count is reported as a counter.
+// patches, per form-factor method: subdivision, form factors (all cores), Gauss-Seidel to the
+// default tolerance. The patch count is reported as a counter. The analytic and ray-cast runs
+// stop at 4k patches (their cost grows as n^2 pairs; see bench_form_factors for rows at 64k).
 #include <radiosity/radiosity.hpp>
 
 #include <benchmark/benchmark.h>
 
 namespace {
 
-// Max edge lengths (mm) that give about 1k, 4k and 16k patches on the Cornell box.
-constexpr double edge_1k = 34.0, edge_4k = 17.0, edge_16k = 8.5;
+// Max edge lengths (mm) that give 1014, 3988 and 15290 patches on the Cornell box.
+constexpr double edge_1k = 48.0, edge_4k = 23.0, edge_16k = 11.5;
 
 void solve_cornell(benchmark::State& state, double max_edge, radiosity::FormFactorKind method) {
     const auto scene = radiosity::build_mesh(radiosity::cornell_box<radiosity::Rgb>());
@@ -16,25 +17,39 @@ void solve_cornell(benchmark::State& state, double max_edge, radiosity::FormFact
     options.subdivision.max_edge = max_edge;
     options.form_factor = method;
     std::size_t patches = 0;
+    double form_factor_seconds = 0.0;
     for (auto _ : state) {
         const auto result = radiosity::solve(scene, options);
         patches = result.patches.size();
+        form_factor_seconds = result.form_factor_seconds;
         benchmark::DoNotOptimize(result.report.residual);
     }
     state.counters["patches"] = static_cast<double>(patches);
+    state.counters["form_factor_s"] = form_factor_seconds;
 }
+
+using radiosity::FormFactorKind;
 
 }  // namespace
 
-BENCHMARK_CAPTURE(solve_cornell, hemicube_1k, edge_1k, radiosity::FormFactorKind::hemicube)
+BENCHMARK_CAPTURE(solve_cornell, hemicube_1k, edge_1k, FormFactorKind::hemicube)
     ->Unit(benchmark::kSecond)
     ->Iterations(1);
-BENCHMARK_CAPTURE(solve_cornell, hemicube_4k, edge_4k, radiosity::FormFactorKind::hemicube)
+BENCHMARK_CAPTURE(solve_cornell, hemicube_4k, edge_4k, FormFactorKind::hemicube)
     ->Unit(benchmark::kSecond)
     ->Iterations(1);
-BENCHMARK_CAPTURE(solve_cornell, hemicube_16k, edge_16k, radiosity::FormFactorKind::hemicube)
+BENCHMARK_CAPTURE(solve_cornell, hemicube_16k, edge_16k, FormFactorKind::hemicube)
     ->Unit(benchmark::kSecond)
     ->Iterations(1);
-BENCHMARK_CAPTURE(solve_cornell, analytic_1k, edge_1k, radiosity::FormFactorKind::analytic)
+BENCHMARK_CAPTURE(solve_cornell, analytic_1k, edge_1k, FormFactorKind::analytic)
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);
+BENCHMARK_CAPTURE(solve_cornell, analytic_4k, edge_4k, FormFactorKind::analytic)
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);
+BENCHMARK_CAPTURE(solve_cornell, ray_cast_1k, edge_1k, FormFactorKind::ray_cast)
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);
+BENCHMARK_CAPTURE(solve_cornell, ray_cast_4k, edge_4k, FormFactorKind::ray_cast)
     ->Unit(benchmark::kSecond)
     ->Iterations(1);
