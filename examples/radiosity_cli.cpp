@@ -15,6 +15,7 @@
 #include <iostream>
 #include <string>
 #include <unistd.h>
+#include <vector>
 
 namespace {
 
@@ -33,7 +34,9 @@ struct Args {
     double exposure = 0.0;
     int resolution = 0;  // 0: the hemicube's default
     int samples = 0;     // 0: the ray-cast method's default
-    std::string ply, dump_form_factors, dump_patches;
+    std::string ply, gltf, hdr, dump_form_factors, dump_patches, form_factors_text;
+    std::vector<double> camera;  // eye, target, up: 9 numbers; empty: the default camera
+    double fov = 0.0;            // vertical field of view in degrees; 0: the default
     bool quiet = false;
 };
 
@@ -108,6 +111,42 @@ radiosity::Camera default_camera(const std::string& scene, const radiosity::Mesh
     return {c - glm::dvec3(0.0, 0.0, distance), c, {0.0, 1.0, 0.0}, fov};
 }
 
+/// The camera from --camera and --fov where given, the default one otherwise.
+radiosity::Camera chosen_camera(const Args& a, const radiosity::Mesh<Colour>& mesh) {
+    radiosity::Camera c = default_camera(a.scene, mesh);
+    if (!a.camera.empty()) {
+        c.eye = {a.camera[0], a.camera[1], a.camera[2]};
+        c.target = {a.camera[3], a.camera[4], a.camera[5]};
+        c.up = {a.camera[6], a.camera[7], a.camera[8]};
+    }
+    if (a.fov > 0.0) c.fov_y_degrees = a.fov;
+    return c;
+}
+
+/// The matrix as plain text for thermal-analysis tools: n, then the n areas, then n rows of n
+/// view factors, whitespace-separated.
+void write_form_factor_text(const std::string& path, const radiosity::DenseMatrix& F,
+                            const radiosity::PatchTable& patches) {
+    std::ofstream out(path);
+    if (!out) throw radiosity::Error(path + ": cannot open for writing");
+    char buf[32];
+    out << "# radiosity view factors: n, then areas A_i, then rows F_ij (A_i F_ij = A_j F_ji)\n";
+    out << F.size() << '\n';
+    for (std::size_t i = 0; i < F.size(); ++i) {
+        std::snprintf(buf, sizeof buf, "%.12g", patches.area(i));
+        out << (i ? " " : "") << buf;
+    }
+    out << '\n';
+    for (std::size_t i = 0; i < F.size(); ++i) {
+        for (std::size_t j = 0; j < F.size(); ++j) {
+            std::snprintf(buf, sizeof buf, "%.9g", static_cast<double>(F(i, j)));
+            out << (j ? " " : "") << buf;
+        }
+        out << '\n';
+    }
+    if (!out) throw radiosity::Error(path + ": write failed");
+}
+
 void write_form_factors(const std::string& path, const radiosity::DenseMatrix& F) {
     std::ofstream out(path);
     if (!out) throw radiosity::Error(path + ": cannot open for writing");
@@ -157,12 +196,14 @@ int run(const Args& a) {
     o.tolerance = a.tolerance;
     if (a.resolution > 0) o.hemicube.resolution = a.resolution;
     if (a.samples > 0) o.ray_cast.samples = a.samples;
-    o.keep_form_factors = !a.dump_form_factors.empty();
+    o.keep_form_factors = !a.dump_form_factors.empty() || !a.form_factors_text.empty();
     o.progress = [&bar](const radiosity::Progress& p) { return bar(p); };
     const auto result = radiosity::solve(scene, o);
     bar.finish();
 
-    if (o.keep_form_factors) write_form_factors(a.dump_form_factors, *result.form_factors);
+    if (!a.dump_form_factors.empty()) write_form_factors(a.dump_form_factors, *result.form_factors);
+    if (!a.form_factors_text.empty())
+        write_form_factor_text(a.form_factors_text, *result.form_factors, result.patches);
     if (!a.dump_patches.empty()) write_patches(a.dump_patches, result);
 
     // Without any output named, a picture: cornell_box.png for the Cornell box, else the
@@ -177,11 +218,14 @@ int run(const Args& a) {
         a.flat ? radiosity::flat_shading(result.mesh) : radiosity::smooth_shading(result.mesh);
     radiosity::ToneMapOptions tone;
     tone.stops = a.exposure;
-    if (!image.empty()) {
-        const auto picture = radiosity::render(shaded, default_camera(a.scene, result.mesh),
+    if (!image.empty() || !a.hdr.empty()) {
+        const auto picture = radiosity::render(shaded, chosen_camera(a, result.mesh),
                                                {.width = a.width, .height = a.height});
-        radiosity::write_png(picture, image, tone);
+        if (!image.empty()) radiosity::write_png(picture, image, tone);
+        if (!a.hdr.empty()) radiosity::write_hdr(picture, a.hdr);
     }
+    if (!a.gltf.empty())
+        radiosity::write_gltf(shaded, a.gltf, radiosity::exposure_scale(shaded.colours, tone));
     if (!a.ply.empty())
         radiosity::write_ply(shaded, a.ply, radiosity::exposure_scale(shaded.colours, tone));
 
@@ -248,6 +292,16 @@ int main(int argc, char** argv) {
     app.add_flag("--flat", a.flat, "flat shading (one colour per patch) instead of smooth");
     app.add_option("--ply", a.ply, "write the shaded mesh as PLY with 8-bit sRGB vertex colours");
     app.add_option("--dump-form-factors", a.dump_form_factors, "write F as CSV: line i holds F_ij");
+    app.add_option("--form-factors-text", a.form_factors_text,
+                   "write F as plain text for thermal tools: n, the areas, then the rows");
+    app.add_option("--gltf", a.gltf,
+                   "write the shaded mesh as glTF 2.0 with vertex colours (.glb: one binary file)");
+    app.add_option("--hdr", a.hdr, "write a linear Radiance HDR picture (radiance B / pi)");
+    app.add_option("--camera", a.camera, "camera eye, target and up: ex,ey,ez,tx,ty,tz,ux,uy,uz")
+        ->expected(9)
+        ->delimiter(',');
+    app.add_option("--fov", a.fov, "vertical field of view in degrees")
+        ->check(CLI::Range(1.0, 179.0));
     app.add_option("--dump-patches", a.dump_patches,
                    "write patches as CSV: patch,area,cx,cy,cz,nx,ny,nz,E_*,R_*,B_*");
     app.add_flag("--quiet", a.quiet, "no progress bar");
