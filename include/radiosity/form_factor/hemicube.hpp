@@ -88,15 +88,27 @@ class Hemicube {
         std::vector<std::int32_t> id;
         std::vector<double> depth;
         for (const detail::HemicubeFace& face : faces(i)) {
-            const int w = options_.resolution, h = face.side ? w / 2 : w;
-            id.assign(static_cast<std::size_t>(w * h), -1);
-            depth.assign(id.size(), std::numeric_limits<double>::infinity());
-            for (std::size_t j = 0; j < t.size(); ++j)
-                if (j != i) draw(j, t.centroid(i), face, w, h, id, depth);
+            item_buffer(i, face, id, depth);
             accumulate(i, face.side ? side_dff_ : top_dff_, id, F);
         }
         for (std::size_t j = 0; j < t.size(); ++j) out[j] = static_cast<float>(F[j]);
     }
+
+    /// The item buffers of patch i's hemicube, for teaching and debugging: for the top face and
+    /// then the four side faces, which patch each pixel sees (-1: none), row 0 at the top (the
+    /// patch's horizon is the sides' last row). Top: resolution^2 pixels, sides: resolution x
+    /// resolution/2. Pair them with top_delta_form_factors() and side_delta_form_factors().
+    std::array<std::vector<std::int32_t>, 5> item_buffers(std::size_t i) const {
+        std::array<std::vector<std::int32_t>, 5> ids;
+        std::vector<double> depth;
+        const auto f = faces(i);
+        for (std::size_t k = 0; k < 5; ++k) item_buffer(i, f[k], ids[k], depth);
+        return ids;
+    }
+    /// Delta form factor of each top-face pixel, row after row.
+    const std::vector<double>& top_delta_form_factors() const { return top_dff_; }
+    /// Delta form factor of each side-face pixel, row after row (the same for all four sides).
+    const std::vector<double>& side_delta_form_factors() const { return side_dff_; }
 
     const HemicubeOptions& options() const { return options_; }  ///< the settings
     /// Sum of all delta form factors (the top face and four half side faces): 1 up to the
@@ -112,6 +124,17 @@ class Hemicube {
     const PatchTable& table() const {
         if (patches_ == nullptr) throw Error("hemicube: prepare() was not called");
         return *patches_;
+    }
+
+    /// Draws every other patch into one face's z-buffer, keeping the nearest patch per pixel.
+    void item_buffer(std::size_t i, const detail::HemicubeFace& face, std::vector<std::int32_t>& id,
+                     std::vector<double>& depth) const {
+        const PatchTable& t = table();
+        const int w = options_.resolution, h = face.side ? w / 2 : w;
+        id.assign(static_cast<std::size_t>(w * h), -1);
+        depth.assign(id.size(), std::numeric_limits<double>::infinity());
+        for (std::size_t j = 0; j < t.size(); ++j)
+            if (j != i) draw(j, t.centroid(i), face, w, h, id, depth);
     }
 
     /// The delta form factors of each pixel (the equations above), computed once.
