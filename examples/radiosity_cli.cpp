@@ -7,7 +7,9 @@
 
 #include <CLI/CLI.hpp>
 
+#include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -38,22 +40,39 @@ struct Args {
     std::vector<double> camera;  // eye, target, up: 9 numbers; empty: the default camera
     double fov = 0.0;            // vertical field of view in degrees; 0: the default
     bool quiet = false;
+    bool partial = false;  // on Ctrl-C during the solve, still write what was computed
 };
 
-/// A progress bar on stderr: redrawn in place on a terminal, one line per phase otherwise.
+/// Set by Ctrl-C (SIGINT); the progress callback then asks the library to stop.
+std::atomic<bool> interrupted{false};
+extern "C" void on_interrupt(int) {
+    interrupted = true;
+}
+
+/// A progress bar on stderr: phase, percentage and an estimate of the time left, redrawn in
+/// place on a terminal, one line per phase otherwise. It also relays Ctrl-C: returning false
+/// asks the library to stop.
 class ProgressBar {
   public:
     explicit ProgressBar(bool quiet) : quiet_(quiet), tty_(isatty(STDERR_FILENO) != 0) {}
 
     bool operator()(const radiosity::Progress& p) {
+        if (interrupted) return false;
         if (quiet_) return true;
+        const auto now = std::chrono::steady_clock::now();
+        if (p.phase != phase_) start_ = now;
         if (tty_) {
-            const int filled =
-                static_cast<int>(std::lround(30.0 * std::clamp(p.fraction, 0.0, 1.0)));
+            const double f = std::clamp(p.fraction, 0.0, 1.0);
+            const int filled = static_cast<int>(std::lround(30.0 * f));
             std::fprintf(stderr, "\r%-13s [%s%s] %3.0f%%", std::string(p.phase).c_str(),
                          std::string(static_cast<std::size_t>(filled), '#').c_str(),
                          std::string(static_cast<std::size_t>(30 - filled), ' ').c_str(),
-                         100.0 * p.fraction);
+                         100.0 * f);
+            const double elapsed = std::chrono::duration<double>(now - start_).count();
+            if (f > 0.02 && f < 1.0 && elapsed > 0.5)  // left = elapsed (1 - f) / f
+                std::fprintf(stderr, " %5.0f s left", elapsed * (1.0 - f) / f);
+            else
+                std::fprintf(stderr, "             ");
             if (p.residual > 0.0) std::fprintf(stderr, " residual %.2e", p.residual);
             std::fflush(stderr);
         } else if (p.phase != phase_) {
@@ -70,6 +89,7 @@ class ProgressBar {
   private:
     bool quiet_, tty_;
     std::string phase_;
+    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
 /// Loads the scene: a built-in name or an OBJ file.
@@ -197,9 +217,26 @@ int run(const Args& a) {
     if (a.resolution > 0) o.hemicube.resolution = a.resolution;
     if (a.samples > 0) o.ray_cast.samples = a.samples;
     o.keep_form_factors = !a.dump_form_factors.empty() || !a.form_factors_text.empty();
+    o.ambient = a.partial;  // progressive shooting stopped early: show the unshot light too
     o.progress = [&bar](const radiosity::Progress& p) { return bar(p); };
-    const auto result = radiosity::solve(scene, o);
+    std::signal(SIGINT, on_interrupt);
+    radiosity::SolveResult<Colour> result;
+    try {
+        result = radiosity::solve(scene, o);
+    } catch (const radiosity::Cancelled&) {
+        bar.finish();
+        std::fprintf(stderr,
+                     "radiosity: interrupted while computing form factors; nothing written\n");
+        return 130;
+    }
     bar.finish();
+    if (result.report.cancelled && !a.partial) {
+        std::fprintf(stderr,
+                     "radiosity: interrupted after %zu iterations (residual %.2e); nothing "
+                     "written (--partial writes what was computed)\n",
+                     result.report.iterations, result.report.residual);
+        return 130;
+    }
 
     if (!a.dump_form_factors.empty()) write_form_factors(a.dump_form_factors, *result.form_factors);
     if (!a.form_factors_text.empty())
@@ -237,9 +274,11 @@ int run(const Args& a) {
                  "in %.2f s; total %.2f s%s%s\n",
                  result.patches.size(), a.form_factor.c_str(), result.form_factor_seconds,
                  r.solver.c_str(), r.iterations, r.residual,
-                 r.converged ? "converged" : "NOT converged", r.seconds, seconds,
-                 image.empty() ? "" : "; wrote ", image.c_str());
-    return 0;
+                 r.cancelled   ? "INTERRUPTED"
+                 : r.converged ? "converged"
+                               : "NOT converged",
+                 r.seconds, seconds, image.empty() ? "" : "; wrote ", image.c_str());
+    return r.cancelled ? 130 : 0;
 }
 
 }  // namespace
@@ -305,6 +344,8 @@ int main(int argc, char** argv) {
     app.add_option("--dump-patches", a.dump_patches,
                    "write patches as CSV: patch,area,cx,cy,cz,nx,ny,nz,E_*,R_*,B_*");
     app.add_flag("--quiet", a.quiet, "no progress bar");
+    app.add_flag("--partial", a.partial,
+                 "on Ctrl-C during the solve, still write the outputs from what was computed");
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

@@ -41,7 +41,8 @@ struct SolveOptions {
     HemicubeOptions hemicube{};      ///< settings of the hemicube method
     RayCastOptions ray_cast{};       ///< settings of the ray-cast method
     bool keep_form_factors = false;  ///< return the assembled matrix (n^2 floats)
-    ProgressCallback progress{};     ///< phases "form factors" and "solve"; return false to cancel
+    bool ambient = false;  ///< progressive: add the ambient term to B (useful if stopped early)
+    ProgressCallback progress{};  ///< phases "form factors" and "solve"; return false to cancel
 };
 
 /// What solve() returns: the patch mesh with B on every face, the patch geometry, the solver's
@@ -83,6 +84,12 @@ T with_cap(T options, double tolerance, std::size_t cap) {
     return options;
 }
 
+inline ProgressiveOptions progressive_options(const SolveOptions& o) {
+    ProgressiveOptions p = with_cap(ProgressiveOptions{}, o.tolerance, o.max_iterations);
+    p.ambient = o.ambient;
+    return p;
+}
+
 /// Runs the chosen solver on an assembled matrix.
 template <SpectrumType S, AssembledMatrix Mx>
 Solution<S> solve_assembled(const System<S>& system, const Mx& F, const SolveOptions& o) {
@@ -94,8 +101,7 @@ Solution<S> solve_assembled(const System<S>& system, const Mx& F, const SolveOpt
             return GaussSeidel(with_cap(GaussSeidelOptions{}, o.tolerance, o.max_iterations))
                 .solve(system, F, o.progress);
         case SolverKind::progressive:
-            return Progressive(with_cap(ProgressiveOptions{}, o.tolerance, o.max_iterations))
-                .solve(system, F, o.progress);
+            return Progressive(progressive_options(o)).solve(system, F, o.progress);
         case SolverKind::direct:
             return Direct().solve(system, F, o.progress);
     }
@@ -110,8 +116,7 @@ void solve_with(SolveResult<S>& result, const System<S>& system, M& method, cons
     const std::size_t n = result.patches.size();
     Solution<S> solution;
     if (o.solver == SolverKind::progressive && !o.keep_form_factors) {
-        solution = Progressive(with_cap(ProgressiveOptions{}, o.tolerance, o.max_iterations))
-                       .solve(system, method, o.progress);
+        solution = Progressive(progressive_options(o)).solve(system, method, o.progress);
     } else {
         const auto t0 = std::chrono::steady_clock::now();
         DenseMatrix F = assemble_dense(method, n, o.progress);
