@@ -8,6 +8,7 @@
 #include <radiosity/geometry/bvh.hpp>
 #include <radiosity/geometry/sampling.hpp>
 
+#include "../benchmarks/support/rooms.hpp"
 #include "support/refdata.hpp"
 
 #include <doctest/doctest.h>
@@ -28,29 +29,7 @@ double relative_error(double value, double exact) {
     return std::abs(value - exact) / exact;
 }
 
-/// Adds an axis-aligned box [lo, hi] as 6 faces split into g x g patches each, normals pointing
-/// inwards (a room) or outwards (a block).
-void add_box(PatchTable& t, const Vec3& lo, const Vec3& hi, int g, bool inwards) {
-    for (int axis = 0; axis < 3; ++axis)
-        for (int side = 0; side < 2; ++side) {
-            const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
-            for (int u = 0; u < g; ++u)
-                for (int v = 0; v < g; ++v) {
-                    auto at = [&](double s, double r) {
-                        Vec3 p;
-                        p[axis] = side ? hi[axis] : lo[axis];
-                        p[a1] = lo[a1] + (hi[a1] - lo[a1]) * s / g;
-                        p[a2] = lo[a2] + (hi[a2] - lo[a2]) * r / g;
-                        return p;
-                    };
-                    std::vector<Vec3> q{at(u, v), at(u + 1, v), at(u + 1, v + 1), at(u, v + 1)};
-                    // (a1, a2, axis) is right-handed, so this quad faces +axis.
-                    const bool faces_plus = (side == 0) == inwards;
-                    if (!faces_plus) std::reverse(q.begin(), q.end());
-                    t.add(q);
-                }
-        }
-}
+using bench::add_box;
 
 /// A closed room of side 4 (2 x 2 patches per wall) with a floating block in it.
 PatchTable room_with_block() {

@@ -119,5 +119,30 @@ inline double convergence_fraction(double first, double now, double tolerance) {
     return std::clamp(f, 0.0, 1.0);
 }
 
+/// The loop shared by the sweeping solvers: calls sweep() (which returns the largest change of
+/// B, absolute) until the change relative to max E is within the tolerance, the iteration cap
+/// is reached or the progress callback cancels; fills iterations, residual (the last relative
+/// change), converged and cancelled.
+template <class Sweep>
+void sweep_until(Report& report, Sweep&& sweep, double scale, double tolerance,
+                 std::size_t max_iterations, const ProgressCallback& progress) {
+    double first = -1.0;
+    while (report.iterations < max_iterations) {
+        const double change = sweep() / scale;
+        ++report.iterations;
+        report.residual = change;
+        if (first < 0.0) first = change;
+        if (change <= tolerance) {
+            report.converged = true;
+            return;
+        }
+        if (!detail::report(progress, "solve", convergence_fraction(first, change, tolerance),
+                            change)) {
+            report.cancelled = true;
+            return;
+        }
+    }
+}
+
 }  // namespace detail
 }  // namespace radiosity

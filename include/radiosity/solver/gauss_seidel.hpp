@@ -39,23 +39,9 @@ class GaussSeidel {
                                   R = detail::to_doubles(system.reflectance);
         std::vector<double> B = E;
         Report report{"gauss-seidel"};
-        const double scale = detail::emission_scale(E);
-        double first = -1.0;
-        while (report.iterations < options_.max_iterations) {
-            const double change = sweep(F, E, R, B, K) / scale;
-            ++report.iterations;
-            if (first < 0.0) first = change;
-            if (change <= options_.tolerance) {
-                report.converged = true;
-                break;
-            }
-            if (!detail::report(progress, "solve",
-                                detail::convergence_fraction(first, change, options_.tolerance),
-                                change)) {
-                report.cancelled = true;
-                break;
-            }
-        }
+        detail::sweep_until(
+            report, [&] { return sweep(F, E, R, B, K); }, detail::emission_scale(E),
+            options_.tolerance, options_.max_iterations, progress);
         report.residual = detail::relative_residual(F, E, R, B, K);
         report.seconds = clock.seconds();
         return {detail::from_doubles<S>(B), report};

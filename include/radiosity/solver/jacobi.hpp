@@ -37,25 +37,15 @@ class Jacobi {
                                   R = detail::to_doubles(system.reflectance);
         std::vector<double> B = E, next(B.size());
         Report report{"jacobi"};
-        const double scale = detail::emission_scale(E);
-        double first = -1.0;
-        while (report.iterations < options_.max_iterations) {
-            const double change = sweep(F, E, R, B, next, n, K) / scale;
-            B.swap(next);
-            ++report.iterations;
-            report.residual = change;  // the residual at the sweep's input
-            if (first < 0.0) first = change;
-            if (change <= options_.tolerance) {
-                report.converged = true;
-                break;
-            }
-            if (!detail::report(progress, "solve",
-                                detail::convergence_fraction(first, change, options_.tolerance),
-                                change)) {
-                report.cancelled = true;
-                break;
-            }
-        }
+        // The residual at a sweep's input is exactly the change the sweep makes.
+        detail::sweep_until(
+            report,
+            [&] {
+                const double change = sweep(F, E, R, B, next, n, K);
+                B.swap(next);
+                return change;
+            },
+            detail::emission_scale(E), options_.tolerance, options_.max_iterations, progress);
         report.seconds = clock.seconds();
         return {detail::from_doubles<S>(B), report};
     }
