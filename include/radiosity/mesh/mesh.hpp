@@ -9,9 +9,11 @@
 
 #include <radiosity/error.hpp>
 #include <radiosity/geometry/vec.hpp>
+#include <radiosity/mesh/manifold.hpp>
 #include <radiosity/mesh/patch_table.hpp>
 #include <radiosity/spectrum.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <string>
@@ -68,12 +70,36 @@ void validate_material(const Material<S>& m, const std::string& where) {
         if (band(m.emission, k) < 0.0f) throw Error(where + ": emission is negative");
     }
 }
+/// Checks face f of a scene: at least 3 vertices, all existing and distinct, non-zero area, an
+/// existing material. Throws Error naming the source and the face.
+template <SpectrumType S>
+void validate_face(const Scene<S>& scene, std::size_t f) {
+    const std::string at = scene.source + ": face " + std::to_string(f);
+    const auto& face = scene.faces[f];
+    if (face.size() < 3) throw Error(at + " has fewer than 3 vertices");
+    std::vector<Vec3> poly;
+    for (std::size_t k = 0; k < face.size(); ++k) {
+        const std::uint32_t v = face[k];
+        if (v >= scene.positions.size())
+            throw Error(at + " refers to vertex " + std::to_string(v) + ", which does not exist");
+        if (std::find(face.begin(), face.begin() + static_cast<std::ptrdiff_t>(k), v) !=
+            face.begin() + static_cast<std::ptrdiff_t>(k))
+            throw Error(at + " uses vertex " + std::to_string(v) + " more than once");
+        poly.push_back(scene.positions[v]);
+    }
+    if (!(polygon_area(poly) > 0.0)) throw Error(at + " has zero area");
+    if (scene.face_material[f] >= scene.materials.size())
+        throw Error(at + " refers to material " + std::to_string(scene.face_material[f]) +
+                    ", which does not exist");
+}
+
 }  // namespace detail
 
 /// Builds the patch mesh of a scene, checking every input: indices in range, at least three
 /// vertices, finite coordinates, non-zero area, reflectance in [0, 1), finite non-negative
-/// emission. Throws Error naming the source and the face or material at fault. A face that
-/// would make the mesh non-manifold gets its own copies of its vertices (it stays a patch).
+/// emission. Throws Error naming the source and the face or material at fault. Where the faces
+/// are not a manifold (an edge of three faces, faces of opposite orientation on one edge,
+/// bow-tie vertices), vertices are split (make_manifold): every face stays a patch.
 template <SpectrumType S>
 Mesh<S> build_mesh(const Scene<S>& scene) {
     const std::string& src = scene.source;
@@ -83,40 +109,33 @@ Mesh<S> build_mesh(const Scene<S>& scene) {
     if (scene.face_material.size() != scene.faces.size())
         throw Error(src + ": need one material index per face");
     Mesh<S> mesh;
-    std::vector<typename Mesh<S>::VertexHandle> vh;
-    vh.reserve(scene.positions.size());
     for (std::size_t v = 0; v < scene.positions.size(); ++v) {
         const Vec3& p = scene.positions[v];
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
             throw Error(src + ": vertex " + std::to_string(v) + " is not a finite point");
+    }
+    for (std::size_t f = 0; f < scene.faces.size(); ++f) detail::validate_face(scene, f);
+    // Split what a half-edge mesh cannot hold (edges of three faces, bow-ties), then add.
+    const ManifoldFaces m = make_manifold(scene.faces, scene.positions.size());
+    std::vector<typename Mesh<S>::VertexHandle> vh;
+    vh.reserve(m.origin.size());
+    for (std::uint32_t o : m.origin) {
+        const Vec3& p = scene.positions[o];
         vh.push_back(mesh.add_vertex({p.x, p.y, p.z}));
     }
-    std::vector<Vec3> poly;
     std::vector<typename Mesh<S>::VertexHandle> corners;
-    for (std::size_t f = 0; f < scene.faces.size(); ++f) {
-        const std::string at = src + ": face " + std::to_string(f);
-        const auto& face = scene.faces[f];
-        if (face.size() < 3) throw Error(at + " has fewer than 3 vertices");
-        poly.clear();
+    for (std::size_t f = 0; f < m.faces.size(); ++f) {
         corners.clear();
-        for (std::uint32_t v : face) {
-            if (v >= scene.positions.size())
-                throw Error(at + " refers to vertex " + std::to_string(v) +
-                            ", which does not exist");
-            poly.push_back(scene.positions[v]);
-            corners.push_back(vh[v]);
-        }
-        if (!(polygon_area(poly) > 0.0)) throw Error(at + " has zero area");
-        const std::uint32_t mat = scene.face_material[f];
-        if (mat >= scene.materials.size())
-            throw Error(at + " refers to material " + std::to_string(mat) +
-                        ", which does not exist");
+        for (std::uint32_t v : m.faces[f]) corners.push_back(vh[v]);
         auto fh = mesh.add_face(corners);
-        if (!fh.is_valid()) {  // non-manifold here: give the face its own vertices
+        if (!fh.is_valid()) {  // cannot happen after make_manifold; kept as a safety net
             for (auto& c : corners) c = mesh.add_vertex(mesh.point(c));
             fh = mesh.add_face(corners);
-            if (!fh.is_valid()) throw Error(at + " could not be added to the mesh");
+            if (!fh.is_valid())
+                throw Error(src + ": face " + std::to_string(f) +
+                            " could not be added to the mesh");
         }
+        const std::uint32_t mat = scene.face_material[f];
         auto& d = mesh.data(fh);
         d.emission = scene.materials[mat].emission;
         d.reflectance = scene.materials[mat].reflectance;

@@ -7,6 +7,7 @@
 
 #include <radiosity/error.hpp>
 #include <radiosity/geometry/polygon.hpp>
+#include <radiosity/mesh/manifold.hpp>
 #include <radiosity/mesh/mesh.hpp>
 
 #include <algorithm>
@@ -150,7 +151,7 @@ template <SpectrumType S>
 class SubdivisionBuilder {
   public:
     SubdivisionBuilder(const Mesh<S>& in, const Welded& w, const EdgeSplits& e)
-        : in_(in), w_(w), e_(e), corner_(w.point.size()) {}
+        : in_(in), w_(w), e_(e), corner_(w.point.size(), UINT32_MAX) {}
 
     Mesh<S> build() {
         for (std::size_t f = 0; f < w_.face.size(); ++f) {
@@ -159,13 +160,37 @@ class SubdivisionBuilder {
             else
                 triangle(f);
         }
-        return std::move(out_);
+        // Welding can join faces into shapes a half-edge mesh cannot hold: split those first.
+        const ManifoldFaces m = make_manifold(faces_, points_.size());
+        Mesh<S> out;
+        std::vector<typename Mesh<S>::VertexHandle> vh;
+        vh.reserve(m.origin.size());
+        for (std::uint32_t o : m.origin)
+            vh.push_back(out.add_vertex({points_[o].x, points_[o].y, points_[o].z}));
+        std::vector<typename Mesh<S>::VertexHandle> c;
+        for (std::size_t f = 0; f < m.faces.size(); ++f) {
+            c.clear();
+            for (std::uint32_t v : m.faces[f]) c.push_back(vh[v]);
+            auto h = out.add_face(c);
+            if (!h.is_valid()) {  // a safety net: cannot happen after make_manifold
+                for (auto& v : c) v = out.add_vertex(out.point(v));
+                h = out.add_face(c);
+                if (!h.is_valid())
+                    throw Error("subdivide: could not add a child of face " +
+                                std::to_string(parent_[f]));
+            }
+            out.data(h) = in_.data(typename Mesh<S>::FaceHandle(static_cast<int>(parent_[f])));
+        }
+        return out;
     }
 
   private:
-    using VH = typename Mesh<S>::VertexHandle;
+    using VH = std::uint32_t;  // index into points_
 
-    VH add(const Vec3& p) { return out_.add_vertex({p.x, p.y, p.z}); }
+    VH add(const Vec3& p) {
+        points_.push_back(p);
+        return static_cast<VH>(points_.size() - 1);
+    }
 
     /// The vertex at step t (0..k) along the edge from corner a to corner b, the same handle
     /// whichever face asks and in whichever direction it walks the edge.
@@ -186,20 +211,13 @@ class SubdivisionBuilder {
     }
 
     VH corner(std::uint32_t v) {
-        if (!corner_[v].is_valid()) corner_[v] = add(w_.point[v]);
+        if (corner_[v] == UINT32_MAX) corner_[v] = add(w_.point[v]);
         return corner_[v];
     }
 
     void face(std::size_t f, std::vector<VH> c) {
-        auto h = out_.add_face(c);
-        if (!h.is_valid()) {  // would be non-manifold: the child gets its own vertices
-            for (VH& v : c) v = out_.add_vertex(out_.point(v));
-            h = out_.add_face(c);
-            if (!h.is_valid())
-                throw Error("subdivide: could not add a child of face " +
-                            std::to_string(w_.parent[f]));
-        }
-        out_.data(h) = in_.data(typename Mesh<S>::FaceHandle(static_cast<int>(w_.parent[f])));
+        faces_.push_back(std::move(c));
+        parent_.push_back(w_.parent[f]);
     }
 
     /// A quad v0 v1 v2 v3 as a k1 x k2 grid: point (a, b) is bilinear in the corners; points on
@@ -263,7 +281,9 @@ class SubdivisionBuilder {
     const Mesh<S>& in_;
     const Welded& w_;
     const EdgeSplits& e_;
-    Mesh<S> out_;
+    std::vector<Vec3> points_;                       // output vertices
+    std::vector<std::vector<std::uint32_t>> faces_;  // output faces over points_
+    std::vector<std::size_t> parent_;                // input face of each output face
     std::vector<VH> corner_;
     std::map<std::pair<std::size_t, std::size_t>, VH> on_edge_;
 };
