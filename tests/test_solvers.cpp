@@ -179,3 +179,31 @@ TEST_CASE("bad input is refused") {
     CHECK_THROWS_AS(Direct().solve(System<float>{E, R, k.area}, small), Error);
     CHECK_THROWS_AS(Direct({4}).solve(System<float>{E, R, k.area}, k.F), Error);
 }
+
+TEST_CASE("every solver stops when the progress callback says so") {
+    const Case k = load("furnace_cube_rho0.9");
+    const std::vector<float> E(k.E.begin(), k.E.end()), R(k.R.begin(), k.R.end());
+    const System<float> system{E, R, k.area};
+    const ProgressCallback stop = [](const Progress&) { return false; };
+    for (const auto& s : {GaussSeidel({1e-9, 1000}).solve(system, k.F, stop),
+                          Progressive({1e-9, 0, 0, false}).solve(system, k.F, stop),
+                          Direct().solve(system, k.F, stop)}) {
+        CAPTURE(s.report.solver);
+        CHECK(s.report.cancelled);
+        CHECK(!s.report.converged);
+        CHECK(s.radiosity.size() == E.size());  // the values so far
+    }
+}
+
+TEST_CASE("no emission: B = 0 at once, with residual 0") {
+    const Case k = load("cube_one_emitter_rho0.5");
+    const std::vector<float> E(k.E.size(), 0.0f), R(k.R.begin(), k.R.end());
+    const System<float> system{E, R, k.area};
+    for (const auto& s : {Jacobi().solve(system, k.F), GaussSeidel().solve(system, k.F),
+                          Progressive().solve(system, k.F), Direct().solve(system, k.F)}) {
+        CAPTURE(s.report.solver);
+        CHECK(s.report.converged);
+        CHECK(s.report.residual == 0.0);
+        for (float b : s.radiosity) CHECK(b == 0.0f);
+    }
+}

@@ -9,6 +9,7 @@
 #include <radiosity/spectrum.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
@@ -54,9 +55,11 @@ std::vector<S> from_doubles(const std::vector<double>& v) {
     return out;
 }
 
-/// acc[k] = sum_j F_ij B_j[k] over the entries of row i (the "gather" of the course).
-template <AssembledMatrix Mx>
-void gather(const Mx& F, std::size_t i, const std::vector<double>& B, std::size_t K, double* acc) {
+/// acc[k] = sum_j F_ij B_j[k] over the entries of row i (the "gather" of the course). K, the
+/// number of bands, is a compile-time constant so that the band loop unrolls (with K known only
+/// at run time, a grey gather over dense rows ran about 3x slower).
+template <std::size_t K, AssembledMatrix Mx>
+void gather(const Mx& F, std::size_t i, const std::vector<double>& B, double* acc) {
     std::fill(acc, acc + K, 0.0);
     F.for_each_in_row(i, [&](std::size_t j, float f) {
         if (f == 0.0f) return;
@@ -74,14 +77,14 @@ inline double emission_scale(const std::vector<double>& E) {
 
 /// The relative residual ||E + R F B - B||_inf / ||E||_inf of the radiosity equation at B.
 /// Cost: one pass over the matrix.
-template <AssembledMatrix Mx>
+template <std::size_t K, AssembledMatrix Mx>
 double relative_residual(const Mx& F, const std::vector<double>& E, const std::vector<double>& R,
-                         const std::vector<double>& B, std::size_t K) {
+                         const std::vector<double>& B) {
     const std::size_t n = F.size();
     double worst = 0.0;
-    std::vector<double> acc(K);
+    std::array<double, K> acc;
     for (std::size_t i = 0; i < n; ++i) {
-        gather(F, i, B, K, acc.data());
+        gather<K>(F, i, B, acc.data());
         for (std::size_t k = 0; k < K; ++k) {
             const std::size_t ik = i * K + k;
             worst = std::max(worst, std::abs(E[ik] + R[ik] * acc[k] - B[ik]));

@@ -4,6 +4,7 @@
 /// distinct reflectance band. O(n^3) time and 8 n^2 bytes: the reference for small systems,
 /// against which the iterative solvers are checked.
 
+#include <radiosity/form_factor/matrix.hpp>
 #include <radiosity/progress.hpp>
 #include <radiosity/solver/common.hpp>
 
@@ -60,7 +61,7 @@ class Direct {
             substitute(A, pivot, E, B, k, K, n);
         }
         report.iterations = 1;
-        report.residual = detail::relative_residual(F, E, R, B, K);
+        report.residual = detail::relative_residual<K>(F, E, R, B);
         report.converged = !report.cancelled && std::isfinite(report.residual);
         report.seconds = clock.seconds();
         return {detail::from_doubles<S>(B), report};
@@ -131,5 +132,8 @@ class Direct {
 
     DirectOptions options_;
 };
+
+// The solver contract (common.hpp): the LU solve reads any assembled matrix.
+static_assert(Solver<Direct, float, DenseMatrix> && Solver<Direct, Rgb, SparseMatrix>);
 
 }  // namespace radiosity

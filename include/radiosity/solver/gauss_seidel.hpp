@@ -4,6 +4,7 @@
 /// (Cohen & Wallace 1993, ch. 5). A patch that sees itself (F_ii != 0, curved or non-planar
 /// patches) is solved for exactly: B_i = (E_i + R_i sum_{j != i} F_ij B_j) / (1 - R_i F_ii).
 
+#include <radiosity/form_factor/matrix.hpp>
 #include <radiosity/progress.hpp>
 #include <radiosity/solver/common.hpp>
 
@@ -40,20 +41,20 @@ class GaussSeidel {
         std::vector<double> B = E;
         Report report{"gauss-seidel"};
         detail::sweep_until(
-            report, [&] { return sweep(F, E, R, B, K); }, detail::emission_scale(E),
+            report, [&] { return sweep<K>(F, E, R, B); }, detail::emission_scale(E),
             options_.tolerance, options_.max_iterations, progress);
-        report.residual = detail::relative_residual(F, E, R, B, K);
+        report.residual = detail::relative_residual<K>(F, E, R, B);
         report.seconds = clock.seconds();
         return {detail::from_doubles<S>(B), report};
     }
 
   private:
     /// One sweep in patch order, in place; returns the largest change.
-    template <AssembledMatrix Mx>
+    template <std::size_t K, AssembledMatrix Mx>
     static double sweep(const Mx& F, const std::vector<double>& E, const std::vector<double>& R,
-                        std::vector<double>& B, std::size_t K) {
+                        std::vector<double>& B) {
         double change = 0.0;
-        std::array<double, detail::max_bands> acc;
+        std::array<double, K> acc;
         for (std::size_t i = 0; i < F.size(); ++i) {
             acc.fill(0.0);
             double self = 0.0;  // F_ii
@@ -77,5 +78,9 @@ class GaussSeidel {
 
     GaussSeidelOptions options_;
 };
+
+// The solver contract (common.hpp): the sweeping solvers work on dense and sparse assembled
+// matrices.
+static_assert(Solver<GaussSeidel, float, DenseMatrix> && Solver<GaussSeidel, Rgb, SparseMatrix>);
 
 }  // namespace radiosity

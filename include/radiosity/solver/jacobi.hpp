@@ -4,6 +4,7 @@
 /// because R F has spectral radius below 1 (R < 1 and rows of F sum to at most 1). Rows are
 /// independent, so sweeps run in parallel, with results independent of the thread count.
 
+#include <radiosity/form_factor/matrix.hpp>
 #include <radiosity/progress.hpp>
 #include <radiosity/solver/common.hpp>
 
@@ -41,7 +42,7 @@ class Jacobi {
         detail::sweep_until(
             report,
             [&] {
-                const double change = sweep(F, E, R, B, next, n, K);
+                const double change = sweep<K>(F, E, R, B, next, n);
                 B.swap(next);
                 return change;
             },
@@ -52,10 +53,9 @@ class Jacobi {
 
   private:
     /// next = E + R F B, in parallel over rows; returns max |next - B|.
-    template <AssembledMatrix Mx>
+    template <std::size_t K, AssembledMatrix Mx>
     static double sweep(const Mx& F, const std::vector<double>& E, const std::vector<double>& R,
-                        const std::vector<double>& B, std::vector<double>& next, std::size_t n,
-                        std::size_t K) {
+                        const std::vector<double>& B, std::vector<double>& next, std::size_t n) {
         double change = 0.0;
         const auto count = static_cast<std::int64_t>(n);
 #if defined(RADIOSITY_WITH_OPENMP)
@@ -63,8 +63,8 @@ class Jacobi {
 #endif
         for (std::int64_t s = 0; s < count; ++s) {
             const auto i = static_cast<std::size_t>(s);
-            std::array<double, detail::max_bands> acc;
-            detail::gather(F, i, B, K, acc.data());
+            std::array<double, K> acc;
+            detail::gather<K>(F, i, B, acc.data());
             for (std::size_t k = 0; k < K; ++k) {
                 const std::size_t ik = i * K + k;
                 next[ik] = E[ik] + R[ik] * acc[k];
@@ -76,5 +76,9 @@ class Jacobi {
 
     JacobiOptions options_;
 };
+
+// The solver contract (common.hpp): the sweeping solvers work on dense and sparse assembled
+// matrices.
+static_assert(Solver<Jacobi, float, DenseMatrix> && Solver<Jacobi, Rgb, SparseMatrix>);
 
 }  // namespace radiosity
