@@ -15,6 +15,7 @@
 #include <stb/stb_image.h>
 #pragma GCC diagnostic pop
 
+#include <algorithm>
 #include <filesystem>
 #include <unistd.h>
 
@@ -94,6 +95,58 @@ TEST_CASE("triangles sharing edges cover every pixel exactly once (top-left rule
     CHECK(std::abs(inside - pixels) < 0.5 * rim_pixels);
 }
 
+namespace {
+
+/// Splits a (cells + 1) x (cells + 1) grid of clip-space points into triangles (diagonals
+/// alternating) and counts how often each pixel of a size x size raster is visited.
+std::vector<int> coverage(const std::vector<Vec4>& grid, int cells, int size) {
+    std::vector<int> hits(std::size_t(size) * size, 0);
+    auto at = [&](int i, int j) { return grid[std::size_t(j) * (cells + 1) + i]; };
+    auto count = [&](const Fragment& f) { ++hits[std::size_t(f.y) * size + f.x]; };
+    for (int j = 0; j < cells; ++j)
+        for (int i = 0; i < cells; ++i) {
+            const Vec4 a = at(i, j), b = at(i + 1, j), c = at(i + 1, j + 1), d = at(i, j + 1);
+            if ((i + j) % 2 == 0) {
+                rasterize_triangle({a, b, c}, size, size, count);
+                rasterize_triangle({a, c, d}, size, size, count);
+            } else {
+                rasterize_triangle({a, b, d}, size, size, count);
+                rasterize_triangle({b, c, d}, size, size, count);
+            }
+        }
+    return hits;
+}
+
+}  // namespace
+
+TEST_CASE("a mesh of triangles over the whole raster covers each pixel exactly once") {
+    // Both grids reach beyond the raster, so every pixel lies inside their union.
+    const int size = 64, cells = 10;
+    // Vertices on pixel centres (8 pixels apart): edges pass exactly through pixel centres
+    // horizontally, vertically and diagonally, so only the top-left rule decides those pixels.
+    std::vector<Vec4> aligned;
+    for (int j = 0; j <= cells; ++j)
+        for (int i = 0; i <= cells; ++i)
+            aligned.emplace_back((16.0 * (i - 1) + 1.0) / size - 1.0,
+                                 1.0 - (16.0 * (j - 1) + 1.0) / size, 0.0, 1.0);
+    // Seeded random jitter of a coarser grid, with random positive w (perspective division).
+    // Corners move at most 0.1 of a cell per axis, which cannot fold a triangle over: its
+    // doubled area stays above 0.8 * 0.8 - 0.2 * 1.2 > 0 cells.
+    Rng rng(11);
+    std::vector<Vec4> jittered;
+    for (int j = 0; j <= cells; ++j)
+        for (int i = 0; i <= cells; ++i) {
+            const double x = -1.3 + 2.6 * (i + 0.2 * (rng.uniform() - 0.5)) / cells;
+            const double y = -1.3 + 2.6 * (j + 0.2 * (rng.uniform() - 0.5)) / cells;
+            const double w = 0.5 + rng.uniform();
+            jittered.emplace_back(x * w, y * w, 0.0, w);
+        }
+    for (const auto* grid : {&aligned, &jittered}) {
+        const std::vector<int> hits = coverage(*grid, cells, size);
+        CHECK(std::count(hits.begin(), hits.end(), 1) == size * size);
+    }
+}
+
 TEST_CASE("interpolation is perspective-correct") {
     // A floor receding from the camera, colour linear in world depth: the pixel that shows the
     // world midpoint of the floor gets the midpoint colour, not the screen-space midpoint's.
@@ -104,17 +157,39 @@ TEST_CASE("interpolation is perspective-correct") {
     const Camera cam{{0, 1, 1}, {0, 1, 0}, {0, 1, 0}, 90.0};  // looking along -z, 1 above
     const int size = 401;
     const Image img = render(m, cam, {size, size});
-    // The world point (0, 0, -5) is 6 in front of the eye and 1 below: screen y = 1/6 down.
-    const int row = static_cast<int>(std::floor((0.5 + 0.5 * (1.0 / 6.0)) * size));
-    CHECK(img.at(size / 2, row).r == doctest::Approx(0.5).epsilon(0.02));
+    // The ray through the centre of pixel row `row` leaves the eye (0, 1, 1) downwards with
+    // slope t = 1 - 2 (row + 0.5) / size (tan 45 = 1) and meets the floor at z = 1 + 1 / t;
+    // the colour there is -z / 10. Screen-space (affine) interpolation would be far off.
+    const int row = static_cast<int>(std::floor((0.5 + 0.5 * (1.0 / 6.0)) * size));  // z ~ -5
+    const double t = 1.0 - 2.0 * (row + 0.5) / size;
+    const double expected = -(1.0 + 1.0 / t) / 10.0;
+    CHECK(expected == doctest::Approx(0.5).epsilon(0.01));
+    CHECK(img.at(size / 2, row).r == doctest::Approx(expected).epsilon(1e-5));
+    // Near the far end of the floor (z ~ -8.5), where affine interpolation would err most.
+    const int far_row = static_cast<int>(std::floor((1.0 + 1.0 / 9.5) * size / 2.0));
+    const double t2 = 1.0 - 2.0 * (far_row + 0.5) / size;
+    CHECK(-(1.0 + 1.0 / t2) / 10.0 == doctest::Approx(0.85).epsilon(0.01));
+    CHECK(img.at(size / 2, far_row).r == doctest::Approx(-(1.0 + 1.0 / t2) / 10.0).epsilon(1e-5));
 }
 
-TEST_CASE("bad camera and image options are refused") {
+TEST_CASE("bad camera and image options are refused, naming the option") {
     ShadedMesh m;
-    CHECK_THROWS_AS(render(m, looking_down_z, {0, 10}), Error);
-    CHECK_THROWS_AS(render(m, {{0, 0, 5}, {0, 0, 5}, {0, 1, 0}, 40.0}), Error);
-    CHECK_THROWS_AS(render(m, {{0, 0, 5}, {0, 0, 0}, {0, 0, 1}, 40.0}), Error);
-    CHECK_THROWS_AS(render(m, {{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 180.0}), Error);
+    auto message = [&](const Camera& c, const RenderOptions& o) {
+        try {
+            render(m, c, o);
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    const Camera ok = looking_down_z;
+    CHECK(message(ok, {0, 10}).find("width") != std::string::npos);
+    CHECK(message(ok, {10, 16385}).find("height") != std::string::npos);
+    CHECK(message({{0, 0, 5}, {0, 0, 5}, {0, 1, 0}, 40.0}, {}).find("eye") != std::string::npos);
+    CHECK(message({{0, 0, 5}, {0, 0, 0}, {0, 0, 1}, 40.0}, {}).find("up") != std::string::npos);
+    CHECK(message({{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 180.0}, {}).find("fov") != std::string::npos);
+    CHECK(message({{0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 0.0}, {}).find("fov") != std::string::npos);
+    CHECK(message(ok, {1, 1}) == "no error");
 }
 
 TEST_CASE("PNG: sRGB codes of a known picture, read back; a bad path is an error") {

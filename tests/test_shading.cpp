@@ -91,6 +91,34 @@ TEST_CASE("smooth shading: area-weighted means at shared vertices, none across c
     CHECK(gentle.positions.size() == 6);
 }
 
+TEST_CASE("smooth shading of a flat grid with a linear B: area-weighted means, by hand") {
+    // Columns at x = 0, 1, 3, 4 and rows at y = 0, 2, 3 (unequal cells); each cell's B is the
+    // linear function 1 + x + 2y at its centre. At an interior vertex the area-weighted mean of
+    // a linear B is its value at the centroid of the four cells around it.
+    const std::vector<double> xs{0, 1, 3, 4}, ys{0, 2, 3};
+    Scene<float> s;
+    for (double y : ys)
+        for (double x : xs) s.positions.emplace_back(x, y, 0.0);
+    std::vector<float> B;
+    for (std::uint32_t j = 0; j < 2; ++j)
+        for (std::uint32_t i = 0; i < 3; ++i) {
+            s.faces.push_back({j * 4 + i, j * 4 + i + 1, (j + 1) * 4 + i + 1, (j + 1) * 4 + i});
+            const double cx = 0.5 * (xs[i] + xs[i + 1]), cy = 0.5 * (ys[j] + ys[j + 1]);
+            B.push_back(static_cast<float>(1.0 + cx + 2.0 * cy));
+        }
+    s.face_material.assign(6, 0);
+    s.materials = {{0.0f, 0.5f, "grey"}};
+    const ShadedMesh m = smooth_shading(mesh_with(s, B));
+    CHECK(m.positions.size() == 12);
+    // Vertex (1, 2): cells of area 2, 4, 1, 2 with B 3.5, 5, 6.5, 8 -> 49.5 / 9 = 5.5.
+    CHECK(colour_at(m, {1, 2, 0}, {0.5, 1, 0}).r == doctest::Approx(5.5));
+    // Vertex (3, 2): cells of area 4, 2, 2, 1 with B 5, 6.5, 8, 9.5 -> 58.5 / 9 = 6.5.
+    CHECK(colour_at(m, {3, 2, 0}, {3.5, 2.5, 0}).g == doctest::Approx(6.5));
+    // A corner keeps its one cell's B; an edge vertex (1, 0) averages two: (2 * 3.5 + 4 * 5) / 6.
+    CHECK(colour_at(m, {0, 0, 0}, {0.5, 1, 0}).b == doctest::Approx(3.5));
+    CHECK(colour_at(m, {1, 0, 0}, {2, 1, 0}).r == doctest::Approx(4.5));
+}
+
 TEST_CASE("smooth shading keeps a uniform radiosity uniform") {
     Scene<float> s;  // a 3 x 3 grid of quads
     for (int y = 0; y <= 3; ++y)

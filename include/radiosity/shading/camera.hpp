@@ -40,22 +40,25 @@ struct Image {
 
 /// Settings of a rendering.
 struct RenderOptions {
-    int width = 512;             ///< picture width in pixels, 1..16384
-    int height = 512;            ///< picture height in pixels, 1..16384
-    glm::vec3 background{0.0f};  ///< value where nothing is seen
+    int width = 512;               ///< picture width in pixels, 1..16384
+    int height = 512;              ///< picture height in pixels, 1..16384
+    glm::vec3 background{0.0f};    ///< value where nothing is seen
+    bool cull_back_faces = false;  ///< skip triangles seen from behind (see into closed rooms)
 };
 
 namespace detail {
+/// Refuses options the projection cannot use; each message names the option at fault.
 inline void check_view(const Camera& c, const RenderOptions& o) {
     if (o.width < 1 || o.width > 16384 || o.height < 1 || o.height > 16384)
-        throw Error("render: width and height must be in [1, 16384], not " +
+        throw Error("render: RenderOptions width and height must be in [1, 16384], not " +
                     std::to_string(o.width) + " x " + std::to_string(o.height));
     if (!(c.fov_y_degrees > 0.0 && c.fov_y_degrees < 180.0))
-        throw Error("render: field of view must be in (0, 180) degrees");
+        throw Error("render: Camera fov_y_degrees must be in (0, 180), not " +
+                    std::to_string(c.fov_y_degrees));
     const Vec3 view = c.target - c.eye;
-    if (!(glm::length(view) > 0.0)) throw Error("render: camera eye and target coincide");
+    if (!(glm::length(view) > 0.0)) throw Error("render: Camera eye and target coincide");
     if (!(glm::length(glm::cross(view, c.up)) > 1e-12 * glm::length(view) * glm::length(c.up)))
-        throw Error("render: camera up is parallel to the view direction");
+        throw Error("render: Camera up is parallel to the view direction (or zero)");
 }
 
 /// Near and far planes that hold the whole mesh: far beyond its farthest point along the view,
@@ -70,8 +73,8 @@ inline std::pair<double, double> depth_range(const ShadedMesh& m, const glm::dma
 
 /// Renders the mesh as the camera sees it: every triangle through the shared rasteriser
 /// (near-plane clipping, top-left rule), nearest surface kept per pixel, vertex colours
-/// interpolated perspective-correctly. No back-face culling (a patch seen from behind shows its
-/// colour). Throws Error for bad options. Cost: O(triangles + covered pixels).
+/// interpolated perspective-correctly. Back faces are drawn unless options.cull_back_faces.
+/// Throws Error for bad options. Cost: O(triangles + covered pixels).
 inline Image render(const ShadedMesh& mesh, const Camera& camera,
                     const RenderOptions& options = {}) {
     detail::check_view(camera, options);
@@ -85,6 +88,11 @@ inline Image render(const ShadedMesh& mesh, const Camera& camera,
         std::vector<glm::vec3>(std::size_t(options.width) * options.height, options.background)};
     std::vector<double> depth(image.pixels.size(), std::numeric_limits<double>::infinity());
     for (const auto& t : mesh.triangles) {
+        if (options.cull_back_faces) {  // the eye behind the triangle's plane sees its back
+            const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]],
+                       &c = mesh.positions[t[2]];
+            if (glm::dot(glm::cross(b - a, c - a), camera.eye - a) <= 0.0) continue;
+        }
         const std::array<Vec4, 3> p{clip * Vec4(mesh.positions[t[0]], 1.0),
                                     clip * Vec4(mesh.positions[t[1]], 1.0),
                                     clip * Vec4(mesh.positions[t[2]], 1.0)};
