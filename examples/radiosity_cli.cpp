@@ -36,7 +36,7 @@ struct Args {
     double exposure = 0.0;
     int resolution = 0;  // 0: the hemicube's default
     int samples = 0;     // 0: the ray-cast method's default
-    std::string ply, gltf, hdr, dump_form_factors, dump_patches, form_factors_text;
+    std::string ply, gltf, hdr, dump_form_factors, dump_patches, form_factors_text, rrv_out;
     std::vector<double> camera;  // eye, target, up: 9 numbers; empty: the default camera
     double fov = 0.0;            // vertical field of view in degrees; 0: the default
     bool quiet = false;
@@ -99,6 +99,8 @@ radiosity::Mesh<Colour> load_scene(const std::string& scene) {
         return radiosity::build_mesh(radiosity::builtin_scene<Colour>(scene));
     if (!std::filesystem::exists(scene))
         throw radiosity::Error(scene + ": no such file, and not a built-in scene");
+    if (std::filesystem::path(scene).extension() == ".xml")  // RRV's scene format
+        return radiosity::build_mesh(radiosity::read_rrv<Colour>(scene));
     return radiosity::build_mesh(radiosity::read_obj<Colour>(scene));
 }
 
@@ -256,11 +258,14 @@ int run(const Args& a) {
     radiosity::ToneMapOptions tone;
     tone.stops = a.exposure;
     if (!image.empty() || !a.hdr.empty()) {
-        const auto picture = radiosity::render(shaded, chosen_camera(a, result.mesh),
-                                               {.width = a.width, .height = a.height});
+        // Back faces culled: a closed room seen from outside shows its inside (a cut-away).
+        const auto picture =
+            radiosity::render(shaded, chosen_camera(a, result.mesh),
+                              {.width = a.width, .height = a.height, .cull_back_faces = true});
         if (!image.empty()) radiosity::write_png(picture, image, tone);
         if (!a.hdr.empty()) radiosity::write_hdr(picture, a.hdr);
     }
+    if (!a.rrv_out.empty()) radiosity::write_rrv(result.mesh, a.rrv_out);
     if (!a.gltf.empty())
         radiosity::write_gltf(shaded, a.gltf, radiosity::exposure_scale(shaded.colours, tone));
     if (!a.ply.empty())
@@ -292,7 +297,8 @@ int main(int argc, char** argv) {
     app.failure_message(CLI::FailureMessage::simple);
     app.add_option(
            "scene", a.scene,
-           "an OBJ file (Kd: reflectance, Ke: emission) or a built-in scene: " +
+           "an OBJ file (Kd: reflectance, Ke: emission), an RRV scene (.xml) or a built-in "
+           "scene: " +
                [] {
                    std::string s;
                    for (const auto& n : radiosity::builtin_scene_names())
@@ -335,6 +341,8 @@ int main(int argc, char** argv) {
                    "write F as plain text for thermal tools: n, the areas, then the rows");
     app.add_option("--gltf", a.gltf,
                    "write the shaded mesh as glTF 2.0 with vertex colours (.glb: one binary file)");
+    app.add_option("--rrv-out", a.rrv_out,
+                   "write the solved scene in RRV's XML format, a radiosity per triangle");
     app.add_option("--hdr", a.hdr, "write a linear Radiance HDR picture (radiance B / pi)");
     app.add_option("--camera", a.camera, "camera eye, target and up: ex,ey,ez,tx,ty,tz,ux,uy,uz")
         ->expected(9)

@@ -5,6 +5,7 @@
 // (README) to catch memory errors too.
 #include <radiosity/geometry/sampling.hpp>
 #include <radiosity/io/obj.hpp>
+#include <radiosity/io/rrv.hpp>
 #include <radiosity/mesh/patch_table.hpp>
 #include <radiosity/mesh/subdivide.hpp>
 
@@ -126,5 +127,37 @@ TEST_CASE("OBJ/MTL reader: 3000 mutated files load (and subdivide) or are refuse
     CHECK(other == 0);
     CHECK(loaded > 100);   // the mutations leave many files valid
     CHECK(refused > 100);  // and break many
+    MESSAGE("loaded " << loaded << ", refused " << refused);
+}
+
+TEST_CASE("RRV XML reader: 600 mutated rooms load or are refused cleanly") {
+    const std::string rrv = std::string(RADIOSITY_REFDATA_DIR) + "/../rrv";
+    const std::string room = slurp(fs::path(rrv) / "room2.xml");
+    const fs::path dir =
+        fs::temp_directory_path() / ("radiosity_fuzz_rrv_" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    RrvOptions options;
+    options.teapot_obj = rrv + "/teapot.obj";
+    Rng rng(7);
+    int loaded = 0, refused = 0, other = 0;
+    for (int k = 0; k < 600; ++k) {
+        std::string text = room;
+        const int edits = 1 + static_cast<int>(rng.uniform() * 3);
+        for (int e = 0; e < edits; ++e) text = mutate(text, rng);
+        std::ofstream(dir / "room.xml") << text;
+        try {
+            const Mesh<Rgb> mesh = build_mesh(read_rrv<Rgb>((dir / "room.xml").string(), options));
+            REQUIRE(mesh.n_faces() > 0);
+            ++loaded;
+        } catch (const Error&) {
+            ++refused;
+        } catch (...) {
+            ++other;
+        }
+    }
+    fs::remove_all(dir);
+    CHECK(other == 0);
+    CHECK(loaded > 50);
+    CHECK(refused > 50);
     MESSAGE("loaded " << loaded << ", refused " << refused);
 }

@@ -18,7 +18,9 @@
 #include <radiosity/io/image.hpp>
 #include <radiosity/io/obj.hpp>
 #include <radiosity/io/ply.hpp>
+#include <radiosity/io/rrv.hpp>
 #include <radiosity/io/scenes.hpp>
+#include <radiosity/mesh/manifold.hpp>
 #include <radiosity/mesh/mesh.hpp>
 #include <radiosity/mesh/patch_table.hpp>
 #include <radiosity/mesh/subdivide.hpp>

@@ -126,21 +126,41 @@ inline EdgeSplits split_edges(const Welded& w, double max_edge) {
         e.face_edges.push_back(ids);
     }
     DisjointSets classes(length.size());
-    for (const auto& ids : e.face_edges) {
-        if (ids.size() == 4) {
+    std::vector<std::size_t> need(length.size(), 1);
+    for (std::size_t k = 0; k < length.size(); ++k)
+        need[k] = static_cast<std::size_t>(std::max(1.0, std::ceil(length[k] / max_edge - 1e-9)));
+    // The most any edge of a class needs, at the class's representative.
+    auto class_needs = [&] {
+        std::vector<std::size_t> most(length.size(), 1);
+        for (std::size_t k = 0; k < length.size(); ++k)
+            most[classes.find(k)] = std::max(most[classes.find(k)], need[k]);
+        return most;
+    };
+    for (const auto& ids : e.face_edges)
+        if (ids.size() == 4) {  // opposite sides of a quad: one grid
             classes.unite(ids[0], ids[2]);
             classes.unite(ids[1], ids[3]);
-        } else {
+        }
+    // A triangle is cut k x k, so its three edges must agree; but only triangles that are cut
+    // at all join their edges (else one long edge would refine a whole connected mesh, such as
+    // a teapot of small triangles). Joining can make a neighbour's edge longer in segments, so
+    // repeat until no triangle has edges that disagree.
+    std::vector<bool> joined(e.face_edges.size(), false);
+    for (bool changed = true; changed;) {
+        changed = false;
+        const std::vector<std::size_t> most = class_needs();
+        for (std::size_t f = 0; f < e.face_edges.size(); ++f) {
+            const auto& ids = e.face_edges[f];
+            if (ids.size() != 3 || joined[f]) continue;
+            const std::size_t a = most[classes.find(ids[0])], b = most[classes.find(ids[1])],
+                              c = most[classes.find(ids[2])];
+            if (a == 1 && b == 1 && c == 1) continue;
             classes.unite(ids[0], ids[1]);
             classes.unite(ids[1], ids[2]);
+            joined[f] = changed = true;
         }
     }
-    std::vector<std::size_t> need(length.size(), 1);
-    for (std::size_t k = 0; k < length.size(); ++k) {
-        const double n = std::ceil(length[k] / max_edge - 1e-9);
-        const std::size_t c = classes.find(k);
-        need[c] = std::max(need[c], static_cast<std::size_t>(std::max(1.0, n)));
-    }
+    need = class_needs();
     e.segments.resize(length.size());
     for (std::size_t k = 0; k < length.size(); ++k) e.segments[k] = need[classes.find(k)];
     return e;

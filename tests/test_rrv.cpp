@@ -1,0 +1,154 @@
+// RRV scenes: the transform semantics of ../shared/rrv/README.md checked on hand-made scenes
+// (RRV's rotation order and turn direction, innermost transform first, strip winding, colour
+// overrides), RRV's example rooms loading into closed, inward-facing rooms, the write-back read
+// again, and bad input refused with file and line.
+#include <radiosity/io/rrv.hpp>
+
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+using namespace radiosity;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string rrv_dir = std::string(RADIOSITY_REFDATA_DIR) + "/../rrv";
+
+struct Scratch {
+    fs::path dir = fs::temp_directory_path() / ("radiosity_rrv_" + std::to_string(::getpid()));
+    Scratch() { fs::create_directories(dir); }
+    ~Scratch() { fs::remove_all(dir); }
+    std::string write(const std::string& name, const std::string& text) const {
+        std::ofstream(dir / name) << text;
+        return (dir / name).string();
+    }
+};
+
+/// A scene with one triangle (0,0,0) (1,0,0) (0,1,0) placed inside the given transforms.
+std::string one_triangle(const std::string& open, const std::string& close) {
+    return "<scene><head><objectdef name=\"t\"><triangleset reflectivity=\".5,.5,.5\"><triangle>"
+           "<vertex x=\"0\" y=\"0\" z=\"0\"/><vertex x=\"1\" y=\"0\" z=\"0\"/>"
+           "<vertex x=\"0\" y=\"1\" z=\"0\"/></triangle></triangleset></objectdef></head><body>" +
+           open + "<object name=\"t\"/>" + close + "</body></scene>";
+}
+
+Vec3 vertex(const Scene<float>& s, std::size_t corner) {
+    return s.positions[s.faces[0][corner]];
+}
+
+}  // namespace
+
+TEST_CASE("RRV transforms: rotation order and direction, innermost first") {
+    Scratch scratch;
+    // About y by 90 degrees, RRV's way: (x, z) -> (x cos - z sin, x sin + z cos): (1,0,0) ->
+    // (0,0,1).
+    auto s = read_rrv<float>(
+        scratch.write("y.xml", one_triangle("<rotate angle=\"90\" dy=\"1\">", "</rotate>")));
+    CHECK(glm::distance(vertex(s, 1), Vec3(0, 0, 1)) < 1e-12);
+    // About z by 90: (x, y) -> (x cos - y sin, x sin + y cos): (1,0,0) -> (0,1,0), (0,1,0) ->
+    // (-1,0,0).
+    s = read_rrv<float>(
+        scratch.write("z.xml", one_triangle("<rotate angle=\"90\" dz=\"1\">", "</rotate>")));
+    CHECK(glm::distance(vertex(s, 1), Vec3(0, 1, 0)) < 1e-12);
+    CHECK(glm::distance(vertex(s, 2), Vec3(-1, 0, 0)) < 1e-12);
+    // Innermost first: scale by 2, then move by 1 in x: (1,0,0) -> (3,0,0).
+    s = read_rrv<float>(scratch.write(
+        "ts.xml", one_triangle("<translate dx=\"1\"><scale dx=\"2\" dy=\"2\" dz=\"2\">",
+                               "</scale></translate>")));
+    CHECK(glm::distance(vertex(s, 1), Vec3(3, 0, 0)) < 1e-12);
+    // Shear is accepted and ignored.
+    s = read_rrv<float>(scratch.write("sh.xml", one_triangle("<shear dx=\"5\">", "</shear>")));
+    CHECK(glm::distance(vertex(s, 1), Vec3(1, 0, 0)) < 1e-12);
+}
+
+TEST_CASE("RRV strips keep one winding, colours override from set to triangle") {
+    Scratch scratch;
+    const auto s = read_rrv<Rgb>(scratch.write(
+        "strip.xml",
+        "<scene><head><objectdef name=\"q\"><triangleset reflectivity=\".2,.3,.4\">"
+        "<triangle><vertex x=\"0\" y=\"0\" z=\"0\"/><vertex x=\"1\" y=\"0\" z=\"0\"/>"
+        "<vertex x=\"0\" y=\"1\" z=\"0\"/></triangle>"
+        "<trianglenext emission=\"1,2,3\"><vertex x=\"1\" y=\"1\" z=\"0\"/></trianglenext>"
+        "</triangleset></objectdef></head><body><object name=\"q\"/></body></scene>"));
+    REQUIRE(s.faces.size() == 2);
+    for (const auto& f : s.faces) {
+        std::vector<Vec3> p;
+        for (auto v : f) p.push_back(s.positions[v]);
+        CHECK(polygon_normal(p).z == doctest::Approx(1.0));  // both counter-clockwise from +z
+    }
+    CHECK(s.materials[s.face_material[0]].emission == Rgb(0.0f));
+    CHECK(s.materials[s.face_material[1]].emission == Rgb(1.0f, 2.0f, 3.0f));
+    CHECK(s.materials[s.face_material[1]].reflectance == Rgb(0.2f, 0.3f, 0.4f));
+}
+
+TEST_CASE("RRV's rooms load: closed, lit, walls facing in, teapot included") {
+    for (const std::string room : {"room2.xml", "room3.xml"}) {
+        CAPTURE(room);
+        const Scene<Rgb> s = read_rrv<Rgb>(rrv_dir + "/" + room);
+        const Mesh<Rgb> mesh = build_mesh(s);
+        CHECK(mesh.n_faces() > 3752);  // the teapot alone has 3752 triangles
+        double emitting = 0.0;
+        for (auto f : mesh.faces()) emitting += max_abs(mesh.data(f).emission) > 0.0f;
+        CHECK(emitting > 0);
+        // The largest faces are the room's walls: their normals point to the room's middle.
+        Vec3 lo(1e300), hi(-1e300);
+        for (const Vec3& p : s.positions) {
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+        const Vec3 middle = 0.5 * (lo + hi);
+        std::size_t walls = 0;
+        for (auto f : mesh.faces()) {
+            const auto p = face_polygon(mesh, f);
+            if (polygon_area(p) < 100.0) continue;
+            ++walls;
+            CHECK(glm::dot(polygon_normal(p), middle - polygon_centroid(p)) > 0.0);
+        }
+        CHECK(walls == 12);  // six walls of two triangles
+    }
+}
+
+TEST_CASE("RRV write-back: a radiosity per triangle, read again") {
+    Scratch scratch;
+    Mesh<Rgb> mesh = build_mesh(read_rrv<Rgb>(rrv_dir + "/room2.xml"));
+    std::vector<Rgb> B(mesh.n_faces(), Rgb(0.25f, 0.5f, 0.75f));
+    set_face_radiosity<Rgb>(mesh, B);
+    const std::string out = (scratch.dir / "solved.xml").string();
+    write_rrv(mesh, out);
+    const Scene<Rgb> back = read_rrv<Rgb>(out);
+    CHECK(back.faces.size() == mesh.n_faces());
+    std::ifstream in(out);
+    const std::string text((std::istreambuf_iterator<char>(in)), {});
+    CHECK(text.find("radiosity=\"0.25,0.5,0.75\"") != std::string::npos);
+}
+
+TEST_CASE("bad RRV input: file and line") {
+    Scratch scratch;
+    auto error_of = [&](const std::string& name, const std::string& text) {
+        try {
+            read_rrv<float>(scratch.write(name, text));
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    CHECK(error_of("broken.xml", "<scene>\n<head>\n</scene>").find("broken.xml:") !=
+          std::string::npos);
+    CHECK(error_of("noobj.xml", "<scene><head/>\n<body>\n<object name=\"x\"/></body></scene>")
+              .find("noobj.xml:3: no objectdef named 'x'") != std::string::npos);
+    CHECK(error_of("num.xml", one_triangle("<translate\ndx=\"abc\">", "</translate>"))
+              .find("not a number") != std::string::npos);
+    CHECK(error_of("what.xml",
+                   "<scene><head><objectdef name=\"a\"><sphere/></objectdef></head><body/></scene>")
+              .find("unknown element <sphere>") != std::string::npos);
+    CHECK(error_of("empty.xml", "<scene><head/><body/></scene>").find("places no triangles") !=
+          std::string::npos);
+    CHECK(
+        error_of("colour.xml",
+                 "<scene><head><objectdef name=\"a\"><cuboid emission=\"1,x\"/></objectdef></head>"
+                 "<body><object name=\"a\"/></body></scene>")
+            .find("not three numbers") != std::string::npos);
+}
