@@ -184,15 +184,20 @@ class Hemicube {
         std::array<Vec4, 16> clip;
         std::vector<Vec4> big;
         Vec4* p = poly.size() <= clip.size() ? clip.data() : (big.resize(poly.size()), big.data());
-        bool any_in_front = false;
+        // Frustum culling by outcodes (Cohen & Sutherland): a polygon whose vertices are all
+        // beyond one plane of the face's frustum cannot cover a pixel. Most patches lie in
+        // one or two of the five faces, so this skips most of the rasteriser's setup.
+        unsigned outside = ~0u;
         for (std::size_t k = 0; k < poly.size(); ++k) {
             const Vec3 d = poly[k] - c;
             const double x = glm::dot(d, face.right), y = glm::dot(d, face.up);
             const double f = glm::dot(d, face.forward);
-            any_in_front = any_in_front || f > near_;
             p[k] = Vec4(x, face.side ? 2.0 * y - f : y, A * f + B, f);
+            const double X = p[k].x, Y = p[k].y, W = p[k].w;
+            outside &= (W <= near_ ? 1u : 0u) | (X > W ? 2u : 0u) | (X < -W ? 4u : 0u) |
+                       (Y > W ? 8u : 0u) | (Y < -W ? 16u : 0u);
         }
-        if (!any_in_front) return;
+        if (outside != 0u) return;
         const auto index = static_cast<std::int32_t>(j);
         for (std::size_t k = 1; k + 1 < poly.size(); ++k)
             rasterize_triangle({p[0], p[k], p[k + 1]}, w, h, [&](const Fragment& frag) {
