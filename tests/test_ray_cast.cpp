@@ -214,3 +214,18 @@ TEST_CASE("ray-cast options are checked") {
     RayCast unprepared;
     CHECK_THROWS_AS(unprepared.pair(0, 1), Error);
 }
+
+TEST_CASE("bvh: a pair with nothing between it and its walls needs no ray") {
+    // Floor and ceiling of an empty box: the walls lie on the pair's bounding box, so nothing
+    // can block; with a block between them, something may.
+    PatchTable empty;
+    add_box(empty, Vec3(0.0), Vec3(1.0), 1, true);
+    const Bvh bvh(empty);
+    const std::array<Vec3, 2> floor{empty.centroid(0), empty.normal(0)};
+    const std::array<Vec3, 2> ceiling{empty.centroid(1), empty.normal(1)};
+    CHECK(!bvh.may_block(Vec3(0.0), Vec3(1.0), 0, 1, floor, ceiling, 1e-12));
+    PatchTable cluttered = empty;
+    add_box(cluttered, Vec3(0.4), Vec3(0.6), 1, false);
+    const Bvh with_block(cluttered);
+    CHECK(with_block.may_block(Vec3(0.0), Vec3(1.0), 0, 1, floor, ceiling, 1e-12));
+}

@@ -20,6 +20,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <span>
 #include <utility>
@@ -94,7 +95,7 @@ class RayCast {
             near_field(outer, inner)
                 ? exchange_integral(t.polygon(outer), t.normal(outer), t.polygon(inner))
                 : detail::sampled_mean(t, outer, inner, xs);
-        if (exchange > 0.0)
+        if (exchange > 0.0 && may_be_blocked(outer, inner))
             exchange *= pair_visible_fraction(*bvh_, t, outer, inner, xs, ys,
                                               options_.penumbra_samples, rng);
         return exchange;
@@ -109,6 +110,21 @@ class RayCast {
     const Bvh& bvh() const { return *bvh_; }                    ///< the BVH (after prepare)
 
   private:
+    /// False when nothing but walls around them can be between the two patches (Bvh::may_block
+    /// on their joint bounding box): then V = 1 exactly and no ray is cast.
+    bool may_be_blocked(std::size_t a, std::size_t b) const {
+        const PatchTable& t = table();
+        Vec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+        for (std::size_t p : {a, b})
+            for (const Vec3& v : t.polygon(p)) {
+                lo = glm::min(lo, v);
+                hi = glm::max(hi, v);
+            }
+        const double eps = 1e-9 * glm::length(hi - lo);
+        return bvh_->may_block(lo, hi, static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b),
+                               {t.centroid(a), t.normal(a)}, {t.centroid(b), t.normal(b)}, eps);
+    }
+
     /// Near field: the bounding spheres of the two patches touch (always so for neighbours).
     /// There F_dA->j changes fast across patch i (a logarithmic singularity of its derivative at
     /// a shared edge), and a few jittered points would miss it by several per cent; the adaptive

@@ -79,6 +79,51 @@ class Bvh {
         return hit;
     }
 
+    /// True if some triangle of a patch other than a and b might block a segment from the front
+    /// of plane A to the front of plane B inside the box [lo, hi]: its bounding box reaches into
+    /// the box's interior and it is not entirely behind (or on) either plane. A conservative
+    /// test: false proves that every such segment is free, so two patches inside the box that
+    /// face each other see each other without any ray (the walls around them lie on the box's
+    /// faces or behind the patches' planes). Planes are (point, unit normal); eps is a length.
+    /// Cost: O(log n + what reaches into the box).
+    bool may_block(const Vec3& lo, const Vec3& hi, std::uint32_t a, std::uint32_t b,
+                   const std::array<Vec3, 2>& plane_a, const std::array<Vec3, 2>& plane_b,
+                   double eps) const {
+        if (nodes_.empty()) return false;
+        auto overlaps = [&](const Vec3& l, const Vec3& h) {
+            return l.x < hi.x && h.x > lo.x && l.y < hi.y && h.y > lo.y && l.z < hi.z && h.z > lo.z;
+        };
+        auto behind = [&](const Triangle& t, const std::array<Vec3, 2>& plane) {
+            for (const Vec3& v : t.v)
+                if (glm::dot(v - plane[0], plane[1]) > eps) return false;
+            return true;
+        };
+        std::array<std::uint32_t, 128> stack;
+        std::size_t top = 0;
+        stack[top++] = 0;
+        while (top > 0) {
+            const std::uint32_t index = stack[--top];
+            const Node& node = nodes_[index];
+            if (!overlaps(Vec3(node.box.lo[0], node.box.lo[1], node.box.lo[2]),
+                          Vec3(node.box.hi[0], node.box.hi[1], node.box.hi[2])))
+                continue;
+            if (node.count == 0) {
+                stack[top++] = index + 1;
+                stack[top++] = node.first;
+                continue;
+            }
+            for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+                const Triangle& t = triangles_[k];
+                if (t.patch == a || t.patch == b) continue;
+                if (!overlaps(glm::min(glm::min(t.v[0], t.v[1]), t.v[2]),
+                              glm::max(glm::max(t.v[0], t.v[1]), t.v[2])))
+                    continue;
+                if (!behind(t, plane_a) && !behind(t, plane_b)) return true;
+            }
+        }
+        return false;
+    }
+
     /// Closest hit of the ray origin + t direction with t in (t_min, t_max), if any.
     std::optional<Hit> intersect(const Vec3& origin, const Vec3& direction, double t_min = 0.0,
                                  double t_max = std::numeric_limits<double>::infinity()) const {
