@@ -293,16 +293,29 @@ class Bvh {
         return best;
     }
 
-    /// Slab test of a ray against a box (Kay & Kajiya 1986) with precomputed reciprocal
-    /// direction; returns the entry distance, or infinity for a miss.
+    /// What the slab test needs of a ray, computed once per ray.
+    struct RaySlabs {
+        std::array<double, 3> inv, o_inv;
+        std::array<bool, 3> negative;
+        RaySlabs(const Vec3& o, const Vec3& d) {
+            for (int a = 0; a < 3; ++a) {
+                const double da = glm::value_ptr(d)[a];
+                inv[a] = da != 0.0 ? 1.0 / da : std::copysign(1e200, da);
+                o_inv[a] = glm::value_ptr(o)[a] * inv[a];
+                negative[a] = inv[a] < 0.0;
+            }
+        }
+    };
+
     /// Slab test of a ray against a box (Kay & Kajiya 1986) with precomputed reciprocal
     /// direction; returns the entry distance, or infinity for a miss. Components are read
     /// through plain arrays: glm's operator[] branches on the index.
-    static double enter(const FloatBox& b, const double* o, const double* inv, double t0,
-                        double t1) {
+    static double enter(const FloatBox& b, const RaySlabs& r, double t0, double t1) {
         for (int a = 0; a < 3; ++a) {
-            double near = (b.lo[a] - o[a]) * inv[a], far = (b.hi[a] - o[a]) * inv[a];
-            if (near > far) std::swap(near, far);
+            // The near and far faces of the slab are known from the direction's sign, so no
+            // swap: t = face * (1 / d) - o / d.
+            const double near = (r.negative[a] ? b.hi[a] : b.lo[a]) * r.inv[a] - r.o_inv[a];
+            const double far = (r.negative[a] ? b.lo[a] : b.hi[a]) * r.inv[a] - r.o_inv[a];
             t0 = near > t0 ? near : t0;
             t1 = far < t1 ? far : t1;
         }
@@ -355,11 +368,7 @@ class Bvh {
                   const double* t_far = nullptr) const {
         if (nodes_.empty() || d == Vec3(0.0)) return;
         const ShearedRay sheared(d);
-        const double* dp = glm::value_ptr(d);
-        const double o_[3] = {o.x, o.y, o.z};
-        double inv[3];
-        for (int a = 0; a < 3; ++a)
-            inv[a] = dp[a] != 0.0 ? 1.0 / dp[a] : std::copysign(1e300, dp[a]);
+        const RaySlabs slabs(o, d);
         constexpr double miss = std::numeric_limits<double>::infinity();
         // Each stack entry is a node whose box the ray enters, with its entry distance (a
         // closest-hit query drops it once a nearer hit is known); boxes are tested once, at
@@ -370,7 +379,7 @@ class Bvh {
         };
         std::array<Entry, 128> stack;
         std::size_t top = 0;
-        const double root = enter(nodes_[0].box, o_, inv, t0, t1);
+        const double root = enter(nodes_[0].box, slabs, t0, t1);
         if (root == miss) return;
         stack[top++] = {0, root};
         while (top > 0) {
@@ -388,8 +397,8 @@ class Bvh {
                 continue;
             }
             const std::uint32_t left = e.node + 1, right = node.first;
-            const double tl = enter(nodes_[left].box, o_, inv, t0, limit);
-            const double tr = enter(nodes_[right].box, o_, inv, t0, limit);
+            const double tl = enter(nodes_[left].box, slabs, t0, limit);
+            const double tr = enter(nodes_[right].box, slabs, t0, limit);
             if (tl <= tr) {  // push the farther child first, so the nearer is visited first
                 if (tr != miss) stack[top++] = {right, tr};
                 if (tl != miss) stack[top++] = {left, tl};
