@@ -40,7 +40,8 @@ struct Args {
     std::vector<double> camera;  // eye, target, up: 9 numbers; empty: the default camera
     double fov = 0.0;            // vertical field of view in degrees; 0: the default
     bool quiet = false;
-    bool partial = false;  // on Ctrl-C during the solve, still write what was computed
+    bool ply_float = false;  // linear float colours in the PLY instead of 8-bit sRGB
+    bool partial = false;    // on Ctrl-C during the solve, still write what was computed
 };
 
 /// Set by Ctrl-C (SIGINT); the progress callback then asks the library to stop.
@@ -269,7 +270,9 @@ int run(const Args& a) {
     if (!a.gltf.empty())
         radiosity::write_gltf(shaded, a.gltf, radiosity::exposure_scale(shaded.colours, tone));
     if (!a.ply.empty())
-        radiosity::write_ply(shaded, a.ply, radiosity::exposure_scale(shaded.colours, tone));
+        radiosity::write_ply(
+            shaded, a.ply, radiosity::exposure_scale(shaded.colours, tone),
+            a.ply_float ? radiosity::PlyColours::linear_float : radiosity::PlyColours::srgb8);
 
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -336,6 +339,8 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_flag("--flat", a.flat, "flat shading (one colour per patch) instead of smooth");
     app.add_option("--ply", a.ply, "write the shaded mesh as PLY with 8-bit sRGB vertex colours");
+    app.add_flag("--ply-float", a.ply_float,
+                 "PLY colours as linear floats (after exposure, unclamped) instead of 8-bit sRGB");
     app.add_option("--dump-form-factors", a.dump_form_factors, "write F as CSV: line i holds F_ij");
     app.add_option("--form-factors-text", a.form_factors_text,
                    "write F as plain text for thermal tools: n, the areas, then the rows");

@@ -9,6 +9,7 @@
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
 #include <filesystem>
+#include <fstream>
 #include <unistd.h>
 
 using namespace radiosity;
@@ -155,4 +156,29 @@ TEST_CASE("PLY: written through OpenMesh, read back with clamped sRGB colours") 
     CHECK(int(c1[0]) == 188);
     CHECK(int(c2[0]) == 255);  // clamped, not wrapped round
     CHECK_THROWS_AS(write_ply(m, "/no/such/folder/x.ply", 1.0), Error);
+}
+
+TEST_CASE("PLY with linear float colours: unclamped values, read back by hand") {
+    ShadedMesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    m.colours = {glm::vec3(0.0f), glm::vec3(0.5f, 0.25f, 0.125f), glm::vec3(4.0f)};
+    m.triangles = {{0, 1, 2}};
+    const auto path = std::filesystem::temp_directory_path() /
+                      ("radiosity_plyf_test_" + std::to_string(::getpid()) + ".ply");
+    write_ply(m, path.string(), 2.0, PlyColours::linear_float);
+    // OpenMesh's reader rounds float colours to 8 bits, so read the binary PLY directly: a
+    // header, then per vertex x y z red green blue as little-endian floats.
+    std::ifstream in(path, std::ios::binary);
+    std::string line, header;
+    while (std::getline(in, line) && line != "end_header") header += line + "\n";
+    CHECK(header.find("format binary_little_endian") != std::string::npos);
+    CHECK(header.find("element vertex 3") != std::string::npos);
+    CHECK(header.find("property float red") != std::string::npos);
+    float v[3][6];
+    in.read(reinterpret_cast<char*>(v), sizeof v);
+    REQUIRE(in);
+    std::filesystem::remove(path);
+    CHECK(v[1][3] == doctest::Approx(1.0));  // 2 x 0.5
+    CHECK(v[1][5] == doctest::Approx(0.25));
+    CHECK(v[2][4] == doctest::Approx(8.0));  // not clamped
 }
