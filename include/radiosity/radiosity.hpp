@@ -19,6 +19,7 @@
 #include <radiosity/io/obj.hpp>
 #include <radiosity/io/ply.hpp>
 #include <radiosity/io/rrv.hpp>
+#include <radiosity/io/rrv_primitives.hpp>
 #include <radiosity/io/scenes.hpp>
 #include <radiosity/mesh/manifold.hpp>
 #include <radiosity/mesh/mesh.hpp>
