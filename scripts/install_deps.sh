@@ -2,7 +2,8 @@
 # Installs the Debian 12 packages that radiosity needs, only those that are missing.
 set -euo pipefail
 packages=(cmake g++ make clang-format libopenmesh-dev libglm-dev libtinyobjloader-dev libstb-dev
-          doctest-dev libbenchmark-dev nlohmann-json3-dev libpugixml-dev libcli11-dev)
+          doctest-dev libbenchmark-dev nlohmann-json3-dev libpugixml-dev libcli11-dev
+          libtinyexr-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -2,10 +2,12 @@
 /// @file gltf.hpp  glTF 2.0 export of a shaded mesh (Khronos Group 2017): one mesh with
 /// POSITION, per-vertex COLOR_0 (linear RGB, what the radiosity solve found, after exposure) and
 /// 32-bit indices, with an unlit material (KHR_materials_unlit) so that viewers show the baked
-/// light as it is instead of lighting it again. Blender, three.js and game engines open it.
+/// light as it is instead of lighting it again; or, for a baked lightmap, the lightmap UVs and the
+/// lightmap as the material's texture. Blender, three.js and game engines open it.
 /// `.glb` writes one binary file; any other name writes NAME.gltf (JSON) beside NAME.bin.
 
 #include <radiosity/error.hpp>
+#include <radiosity/io/image.hpp>
 #include <radiosity/shading/shaded_mesh.hpp>
 
 #include <nlohmann/json.hpp>
@@ -18,6 +20,7 @@
 #include <fstream>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace radiosity {
@@ -35,10 +38,49 @@ std::size_t append(std::vector<std::uint8_t>& buffer, const std::vector<T>& data
     return offset;
 }
 
-/// The glTF document and its binary buffer for a shaded mesh.
+/// Builds a glTF document over one binary buffer, a buffer view and accessor at a time.
+class GltfBuilder {
+  public:
+    explicit GltfBuilder(std::vector<std::uint8_t>& bin) : bin_(bin) {}
+
+    /// Appends data as a buffer view (target 0: none, e.g. an image) and returns its index.
+    template <class T>
+    std::size_t view(const std::vector<T>& data, int target) {
+        const std::size_t at = append(bin_, data);
+        nlohmann::json v = {
+            {"buffer", 0}, {"byteOffset", at}, {"byteLength", data.size() * sizeof(T)}};
+        if (target != 0) v["target"] = target;
+        views_.push_back(v);
+        return views_.size() - 1;
+    }
+    /// Appends data as a buffer view with an accessor of `count` elements of `type` (float or
+    /// uint32 components) and returns the accessor's index.
+    template <class T>
+    std::size_t accessor(const std::vector<T>& data, std::size_t count, const char* type,
+                         int target, nlohmann::json extra = nlohmann::json::object()) {
+        nlohmann::json a = {{"bufferView", view(data, target)},
+                            {"componentType", std::is_same_v<T, float> ? 5126 : 5125},
+                            {"count", count},
+                            {"type", type}};
+        a.update(extra);
+        accessors_.push_back(a);
+        return accessors_.size() - 1;
+    }
+    const nlohmann::json& views() const { return views_; }          ///< the bufferViews
+    const nlohmann::json& accessors() const { return accessors_; }  ///< the accessors
+
+  private:
+    std::vector<std::uint8_t>& bin_;
+    nlohmann::json views_ = nlohmann::json::array(), accessors_ = nlohmann::json::array();
+};
+
+/// The glTF document and its binary buffer for a shaded mesh: vertex colours, or, when a
+/// lightmap PNG is given, the lightmap UVs (TEXCOORD_0, and TEXCOORD_1 where engines look for
+/// a lightmap) and the PNG as the unlit material's base colour texture.
 inline nlohmann::json gltf_document(const ShadedMesh& mesh, double exposure_scale,
-                                    std::vector<std::uint8_t>& bin) {
-    std::vector<float> position, colour;
+                                    std::vector<std::uint8_t>& bin,
+                                    const std::vector<std::uint8_t>* lightmap_png = nullptr) {
+    std::vector<float> position, colour, uv;
     std::array<float, 3> lo{}, hi{};
     lo.fill(std::numeric_limits<float>::max());
     hi.fill(-std::numeric_limits<float>::max());
@@ -51,54 +93,44 @@ inline nlohmann::json gltf_document(const ShadedMesh& mesh, double exposure_scal
             colour.push_back(
                 std::clamp(static_cast<float>(exposure_scale * mesh.colours[v][k]), 0.0f, 1.0f));
         }
+    for (const glm::vec2& t : mesh.uvs) uv.insert(uv.end(), {t.x, t.y});
     std::vector<std::uint32_t> index;
     for (const auto& t : mesh.triangles) index.insert(index.end(), t.begin(), t.end());
-    const std::size_t p_at = append(bin, position), c_at = append(bin, colour),
-                      i_at = append(bin, index);
     using nlohmann::json;
     const auto count = mesh.positions.size();
+    GltfBuilder b(bin);
+    json attributes = {
+        {"POSITION", b.accessor(position, count, "VEC3", 34962, {{"min", lo}, {"max", hi}})}};
+    json material = {{"pbrMetallicRoughness",
+                      {{"baseColorFactor", {1.0, 1.0, 1.0, 1.0}},
+                       {"metallicFactor", 0.0},
+                       {"roughnessFactor", 1.0}}},
+                     {"extensions", {{"KHR_materials_unlit", json::object()}}}};
     json doc = {{"asset", {{"version", "2.0"}, {"generator", "radiosity"}}},
                 {"extensionsUsed", {"KHR_materials_unlit"}},
                 {"scene", 0},
                 {"scenes", {{{"nodes", {0}}}}},
-                {"nodes", {{{"mesh", 0}}}},
-                {"materials",
-                 {{{"pbrMetallicRoughness",
-                    {{"baseColorFactor", {1.0, 1.0, 1.0, 1.0}},
-                     {"metallicFactor", 0.0},
-                     {"roughnessFactor", 1.0}}},
-                   {"extensions", {{"KHR_materials_unlit", json::object()}}}}}},
-                {"meshes",
-                 {{{"primitives",
-                    {{{"attributes", {{"POSITION", 0}, {"COLOR_0", 1}}},
-                      {"indices", 2},
-                      {"material", 0}}}}}}},
-                {"buffers", {{{"byteLength", bin.size()}}}},
-                {"bufferViews",
-                 {{{"buffer", 0},
-                   {"byteOffset", p_at},
-                   {"byteLength", position.size() * 4},
-                   {"target", 34962}},
-                  {{"buffer", 0},
-                   {"byteOffset", c_at},
-                   {"byteLength", colour.size() * 4},
-                   {"target", 34962}},
-                  {{"buffer", 0},
-                   {"byteOffset", i_at},
-                   {"byteLength", index.size() * 4},
-                   {"target", 34963}}}},
-                {"accessors",
-                 {{{"bufferView", 0},
-                   {"componentType", 5126},
-                   {"count", count},
-                   {"type", "VEC3"},
-                   {"min", lo},
-                   {"max", hi}},
-                  {{"bufferView", 1}, {"componentType", 5126}, {"count", count}, {"type", "VEC3"}},
-                  {{"bufferView", 2},
-                   {"componentType", 5125},
-                   {"count", index.size()},
-                   {"type", "SCALAR"}}}}};
+                {"nodes", {{{"mesh", 0}}}}};
+    if (lightmap_png) {
+        if (mesh.uvs.size() != count) throw Error("glTF: the mesh has no lightmap UVs");
+        attributes["TEXCOORD_0"] = attributes["TEXCOORD_1"] = b.accessor(uv, count, "VEC2", 34962);
+        material["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}, {"texCoord", 0}};
+        doc["textures"] = {{{"sampler", 0}, {"source", 0}}};
+        doc["samplers"] = {{{"magFilter", 9729},
+                            {"minFilter", 9729},  // linear, clamp to edge
+                            {"wrapS", 33071},
+                            {"wrapT", 33071}}};
+        doc["images"] = {{{"bufferView", b.view(*lightmap_png, 0)}, {"mimeType", "image/png"}}};
+    } else {
+        attributes["COLOR_0"] = b.accessor(colour, count, "VEC3", 34962);
+    }
+    const std::size_t indices = b.accessor(index, index.size(), "SCALAR", 34963);
+    doc["materials"] = {material};
+    doc["meshes"] = {
+        {{"primitives", {{{"attributes", attributes}, {"indices", indices}, {"material", 0}}}}}};
+    doc["buffers"] = {{{"byteLength", bin.size()}}};
+    doc["bufferViews"] = b.views();
+    doc["accessors"] = b.accessors();
     return doc;
 }
 
@@ -106,15 +138,10 @@ inline void write_bytes(std::ofstream& out, const void* data, std::size_t n) {
     out.write(static_cast<const char*>(data), static_cast<std::streamsize>(n));
 }
 
-}  // namespace detail
-
-/// Writes the mesh as glTF 2.0 with linear vertex colours exposure_scale * colour,
-/// clamped to [0, 1] (the same exposure as the PNG gives the same picture in a viewer that
-/// shows unlit vertex colours). Throws Error naming the path on failure.
-inline void write_gltf(const ShadedMesh& mesh, const std::string& path, double exposure_scale) {
+/// Writes a document and its buffer: one .glb, or NAME.gltf beside NAME.bin.
+inline void write_gltf_files(nlohmann::json doc, const std::vector<std::uint8_t>& bin,
+                             const std::string& path) {
     namespace fs = std::filesystem;
-    std::vector<std::uint8_t> bin;
-    nlohmann::json doc = detail::gltf_document(mesh, exposure_scale, bin);
     const bool binary = fs::path(path).extension() == ".glb";
     std::ofstream out(path, std::ios::binary);
     if (!out) throw Error("cannot write '" + path + "'");
@@ -141,6 +168,29 @@ inline void write_gltf(const ShadedMesh& mesh, const std::string& path, double e
         if (!b) throw Error("cannot write '" + bin_path.string() + "'");
     }
     if (!out) throw Error("cannot write '" + path + "'");
+}
+
+}  // namespace detail
+
+/// Writes the mesh as glTF 2.0 with linear vertex colours exposure_scale * colour,
+/// clamped to [0, 1] (the same exposure as the PNG gives the same picture in a viewer that
+/// shows unlit vertex colours). Throws Error naming the path on failure.
+inline void write_gltf(const ShadedMesh& mesh, const std::string& path, double exposure_scale) {
+    std::vector<std::uint8_t> bin;
+    const nlohmann::json doc = detail::gltf_document(mesh, exposure_scale, bin);
+    detail::write_gltf_files(doc, bin, path);
+}
+
+/// Writes the mesh as glTF 2.0 textured with its lightmap: the lightmap UVs as TEXCOORD_0 and
+/// TEXCOORD_1, and the lightmap, times exposure_scale and sRGB-encoded, as an embedded PNG on an
+/// unlit material, so a viewer shows the baked light. Throws Error if the mesh has no UVs or
+/// the file cannot be written.
+inline void write_gltf_lightmapped(const ShadedMesh& mesh, const Image& lightmap,
+                                   const std::string& path, double exposure_scale) {
+    std::vector<std::uint8_t> bin;
+    const std::vector<std::uint8_t> png = png_bytes(lightmap, exposure_scale);
+    const nlohmann::json doc = detail::gltf_document(mesh, 1.0, bin, &png);
+    detail::write_gltf_files(doc, bin, path);
 }
 
 }  // namespace radiosity

@@ -57,10 +57,13 @@ inline void check_obj_material(const tinyobj::material_t& m, const std::string& 
 
 /// Reads an OBJ file and the MTL files it names into a Scene (Wavefront Technologies 1992
 /// format, via tinyobjloader). Kd -> reflectance, Ke -> emission (converted with from_rgb);
-/// faces without a material get grey reflectance 0.5 and no emission. Polygons are kept.
-/// Throws Error naming the file (and the line or material) for a missing or unreadable file, a
-/// missing MTL file, a face with fewer than 3 vertices or an index out of range, a non-finite
-/// coordinate, or a Kd outside [0, 1). build_mesh then checks areas, naming the file too.
+/// faces without a material get grey reflectance 0.5 and no emission. Polygons are kept. Texture
+/// coordinates (vt) become lightmap UVs, v flipped to our top-row-first convention, when every
+/// face has them (else, or if one lies outside [0, 1], the scene has none and a lightmap baker
+/// makes its own). Throws Error naming the file (and the line or material) for a missing or
+/// unreadable file, a missing MTL file, a face with fewer than 3 vertices or an index out of range,
+/// a non-finite coordinate, or a Kd outside [0, 1). build_mesh then checks areas, naming the file
+/// too.
 template <SpectrumType S>
 Scene<S> read_obj(const std::string& path) {
     namespace fs = std::filesystem;
@@ -93,6 +96,7 @@ Scene<S> read_obj(const std::string& path) {
     bool uses_default = false;
     const std::vector<std::size_t> lines = detail::face_lines(path);
     std::size_t face_number = 0;
+    bool all_uvs = true;  // lightmap UVs are used only if every face has them
     for (const auto& shape : reader.GetShapes()) {
         std::size_t offset = 0;
         for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f, ++face_number) {
@@ -102,8 +106,15 @@ Scene<S> read_obj(const std::string& path) {
             const std::size_t count = shape.mesh.num_face_vertices[f];
             if (count < 3) throw Error(at + ": a face needs at least 3 vertices");
             std::vector<std::uint32_t> face;
+            std::vector<glm::vec2> uv;
             for (std::size_t k = 0; k < count; ++k) {
                 const int v = shape.mesh.indices[offset + k].vertex_index;
+                const int t = shape.mesh.indices[offset + k].texcoord_index;
+                if (t >= 0 && static_cast<std::size_t>(t) < attrib.texcoords.size() / 2) {
+                    // OBJ's v grows upward from the image's bottom row; ours from the top row.
+                    uv.emplace_back(attrib.texcoords[2 * std::size_t(t)],
+                                    1.0f - attrib.texcoords[2 * std::size_t(t) + 1]);
+                }
                 if (v < 0 || static_cast<std::size_t>(v) >= nv)
                     throw Error(at + ": vertex index " + std::to_string(v + 1) +
                                 " is out of range (the file has " + std::to_string(nv) +
@@ -113,10 +124,16 @@ Scene<S> read_obj(const std::string& path) {
             offset += count;
             const int m = f < shape.mesh.material_ids.size() ? shape.mesh.material_ids[f] : -1;
             if (m < 0) uses_default = true;
+            // Texture coordinates outside [0, 1] (a tiled texture) cannot be lightmap UVs.
+            for (const glm::vec2& x : uv)
+                if (!(x.x >= 0.0f && x.x <= 1.0f && x.y >= 0.0f && x.y <= 1.0f)) all_uvs = false;
+            if (uv.size() != face.size()) all_uvs = false;
             scene.faces.push_back(std::move(face));
+            scene.face_uvs.push_back(std::move(uv));
             scene.face_material.push_back(m < 0 ? default_material : static_cast<std::uint32_t>(m));
         }
     }
+    if (!all_uvs) scene.face_uvs.clear();
     if (uses_default) scene.materials.push_back({S{}, from_rgb<S>(0.5f, 0.5f, 0.5f), "default"});
     if (scene.faces.empty()) throw Error(path + ": no faces");
     return scene;

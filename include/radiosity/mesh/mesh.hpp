@@ -9,6 +9,7 @@
 
 #include <radiosity/error.hpp>
 #include <radiosity/geometry/vec.hpp>
+#include <radiosity/mesh/corner_uv.hpp>
 #include <radiosity/mesh/manifold.hpp>
 #include <radiosity/mesh/patch_table.hpp>
 #include <radiosity/spectrum.hpp>
@@ -48,13 +49,15 @@ struct Material {
 };
 
 /// A scene as plain arrays: vertex positions, polygon faces (vertex indices, counter-clockwise
-/// seen from the front), the material of each face, and the materials.
+/// seen from the front), the material of each face, the materials and, optionally, lightmap
+/// UVs per face corner (mesh/corner_uv.hpp gives their convention).
 template <SpectrumType S>
 struct Scene {
     std::vector<Vec3> positions;                    ///< vertex positions
     std::vector<std::vector<std::uint32_t>> faces;  ///< each face's vertex indices
     std::vector<std::uint32_t> face_material;       ///< material index per face
     std::vector<Material<S>> materials;             ///< the materials
+    std::vector<std::vector<glm::vec2>> face_uvs;   ///< UV per corner of every face, or empty
     std::string source = "scene";                   ///< file or scene name, for messages
 };
 
@@ -93,13 +96,44 @@ void validate_face(const Scene<S>& scene, std::size_t f) {
                     ", which does not exist");
 }
 
+/// Checks the scene's lightmap UVs: none at all, or one finite UV in [0, 1] per corner of
+/// every face. Throws Error naming the source and the face.
+template <SpectrumType S>
+void validate_uvs(const Scene<S>& scene) {
+    if (scene.face_uvs.empty()) return;
+    if (scene.face_uvs.size() != scene.faces.size())
+        throw Error(scene.source + ": need lightmap UVs for every face or for none");
+    for (std::size_t f = 0; f < scene.faces.size(); ++f) {
+        const std::string at = scene.source + ": face " + std::to_string(f);
+        if (scene.face_uvs[f].size() != scene.faces[f].size())
+            throw Error(at + " has " + std::to_string(scene.face_uvs[f].size()) + " UVs for " +
+                        std::to_string(scene.faces[f].size()) + " corners");
+        for (const glm::vec2& t : scene.face_uvs[f])
+            if (!(t.x >= 0.0f && t.x <= 1.0f && t.y >= 0.0f && t.y <= 1.0f))
+                throw Error(at + " has a lightmap UV outside [0, 1] (or not a number)");
+    }
+}
+
+/// Stores face f's UVs on the half-edges of mesh face h, matching corners by vertex.
+template <class M>
+void set_face_uvs(M& mesh, typename M::FaceHandle h,
+                  const std::vector<typename M::VertexHandle>& corners,
+                  const std::vector<glm::vec2>& uv) {
+    std::vector<glm::vec2> ordered;
+    for (auto v : mesh.fv_range(h))
+        ordered.push_back(uv[static_cast<std::size_t>(std::find(corners.begin(), corners.end(), v) -
+                                                      corners.begin())]);
+    set_corner_uvs(mesh, h, ordered);
+}
+
 }  // namespace detail
 
 /// Builds the patch mesh of a scene, checking every input: indices in range, at least three
 /// vertices, finite coordinates, non-zero area, reflectance in [0, 1), finite non-negative
 /// emission. Throws Error naming the source and the face or material at fault. Where the faces
 /// are not a manifold (an edge of three faces, faces of opposite orientation on one edge,
-/// bow-tie vertices), vertices are split (make_manifold): every face stays a patch.
+/// bow-tie vertices), vertices are split (make_manifold): every face stays a patch. Lightmap UVs,
+/// if the scene has them, go onto the half-edges (corner_uv.hpp).
 template <SpectrumType S>
 Mesh<S> build_mesh(const Scene<S>& scene) {
     const std::string& src = scene.source;
@@ -115,6 +149,7 @@ Mesh<S> build_mesh(const Scene<S>& scene) {
             throw Error(src + ": vertex " + std::to_string(v) + " is not a finite point");
     }
     for (std::size_t f = 0; f < scene.faces.size(); ++f) detail::validate_face(scene, f);
+    detail::validate_uvs(scene);
     // Split what a half-edge mesh cannot hold (edges of three faces, bow-ties), then add.
     const ManifoldFaces m = make_manifold(scene.faces, scene.positions.size());
     std::vector<typename Mesh<S>::VertexHandle> vh;
@@ -135,6 +170,7 @@ Mesh<S> build_mesh(const Scene<S>& scene) {
                 throw Error(src + ": face " + std::to_string(f) +
                             " could not be added to the mesh");
         }
+        if (!scene.face_uvs.empty()) detail::set_face_uvs(mesh, fh, corners, scene.face_uvs[f]);
         const std::uint32_t mat = scene.face_material[f];
         auto& d = mesh.data(fh);
         d.emission = scene.materials[mat].emission;

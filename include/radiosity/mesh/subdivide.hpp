@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -54,6 +55,7 @@ struct Welded {
     std::vector<Vec3> point;                       // one per merged vertex
     std::vector<std::vector<std::uint32_t>> face;  // convex polygons, 3 or 4 corners
     std::vector<std::size_t> parent;               // input face of each polygon
+    std::vector<std::vector<glm::vec2>> uv;        // lightmap UV per corner, if the mesh has them
 };
 
 /// Merges vertices closer than eps: sort by x and compare neighbours within eps in x.
@@ -89,13 +91,16 @@ Welded weld(const M& mesh, double eps) {
     for (auto f : mesh.faces()) {
         std::vector<std::uint32_t> c;
         for (auto v : mesh.fv_range(f)) c.push_back(merged[static_cast<std::size_t>(v.idx())]);
+        const std::vector<glm::vec2> uv = corner_uvs(mesh, f);
         if (c.size() <= 4) {
             w.face.push_back(c);
             w.parent.push_back(static_cast<std::size_t>(f.idx()));
+            w.uv.push_back(uv);
         } else {  // larger polygons: a fan of triangles (they are convex)
             for (std::size_t k = 1; k + 1 < c.size(); ++k) {
                 w.face.push_back({c[0], c[k], c[k + 1]});
                 w.parent.push_back(static_cast<std::size_t>(f.idx()));
+                w.uv.push_back(uv.empty() ? uv : std::vector<glm::vec2>{uv[0], uv[k], uv[k + 1]});
             }
         }
     }
@@ -200,6 +205,7 @@ class SubdivisionBuilder {
                                 std::to_string(parent_[f]));
             }
             out.data(h) = in_.data(typename Mesh<S>::FaceHandle(static_cast<int>(parent_[f])));
+            if (!uvs_[f].empty()) set_face_uvs(out, h, c, uvs_[f]);
         }
         return out;
     }
@@ -235,9 +241,25 @@ class SubdivisionBuilder {
         return corner_[v];
     }
 
-    void face(std::size_t f, std::vector<VH> c) {
+    /// Adds a child of welded polygon f with corners c, whose lightmap UVs (if the input has
+    /// them) are the parent's UVs interpolated at the corners' parameters st, exactly as the
+    /// corners' positions are: bilinearly in a quad, linearly in a triangle.
+    void face(std::size_t f, std::vector<VH> c, std::initializer_list<Vec2> st) {
         faces_.push_back(std::move(c));
         parent_.push_back(w_.parent[f]);
+        std::vector<glm::vec2> uv;
+        if (const auto& p = w_.uv[f]; !p.empty())
+            for (const Vec2& q : st) {
+                const double s = q.x, t = q.y;
+                const glm::dvec2 x =
+                    p.size() == 4
+                        ? (1 - s) * (1 - t) * glm::dvec2(p[0]) + s * (1 - t) * glm::dvec2(p[1]) +
+                              s * t * glm::dvec2(p[2]) + (1 - s) * t * glm::dvec2(p[3])
+                        : glm::dvec2(p[0]) + s * glm::dvec2(p[1] - p[0]) +
+                              t * glm::dvec2(p[2] - p[0]);
+                uv.emplace_back(x);
+            }
+        uvs_.push_back(std::move(uv));
     }
 
     /// A quad v0 v1 v2 v3 as a k1 x k2 grid: point (a, b) is bilinear in the corners; points on
@@ -265,9 +287,13 @@ class SubdivisionBuilder {
                             s * t * w_.point[v[2]] + (1 - s) * t * w_.point[v[3]]);
                 }
             }
+        auto st = [&](std::size_t a, std::size_t b) {
+            return Vec2(double(a) / k1, double(b) / k2);
+        };
         for (std::size_t b = 0; b < k2; ++b)
             for (std::size_t a = 0; a < k1; ++a)
-                face(f, {at(a, b), at(a + 1, b), at(a + 1, b + 1), at(a, b + 1)});
+                face(f, {at(a, b), at(a + 1, b), at(a + 1, b + 1), at(a, b + 1)},
+                     {st(a, b), st(a + 1, b), st(a + 1, b + 1), st(a, b + 1)});
     }
 
     /// A triangle v0 v1 v2 as k^2 triangles: point (a, b) = v0 + a/k (v1 - v0) + b/k (v2 - v0).
@@ -291,10 +317,14 @@ class SubdivisionBuilder {
                                    (double(a) / double(k)) * (w_.point[v[1]] - w_.point[v[0]]) +
                                    (double(b) / double(k)) * (w_.point[v[2]] - w_.point[v[0]]));
             }
+        auto st = [&](std::size_t a, std::size_t b) { return Vec2(double(a) / k, double(b) / k); };
         for (std::size_t b = 0; b < k; ++b)
             for (std::size_t a = 0; a + b < k; ++a) {
-                face(f, {at(a, b), at(a + 1, b), at(a, b + 1)});
-                if (a + b + 1 < k) face(f, {at(a + 1, b), at(a + 1, b + 1), at(a, b + 1)});
+                face(f, {at(a, b), at(a + 1, b), at(a, b + 1)},
+                     {st(a, b), st(a + 1, b), st(a, b + 1)});
+                if (a + b + 1 < k)
+                    face(f, {at(a + 1, b), at(a + 1, b + 1), at(a, b + 1)},
+                         {st(a + 1, b), st(a + 1, b + 1), st(a, b + 1)});
             }
     }
 
@@ -304,6 +334,7 @@ class SubdivisionBuilder {
     std::vector<Vec3> points_;                       // output vertices
     std::vector<std::vector<std::uint32_t>> faces_;  // output faces over points_
     std::vector<std::size_t> parent_;                // input face of each output face
+    std::vector<std::vector<glm::vec2>> uvs_;        // lightmap UVs of each output face
     std::vector<VH> corner_;
     std::map<std::pair<std::size_t, std::size_t>, VH> on_edge_;
 };
@@ -313,9 +344,9 @@ class SubdivisionBuilder {
 /// Conforming subdivision (see the file comment): returns a new mesh whose edges are at most
 /// max_edge long, where coincident input vertices (within 1e-9 of the scene's size) are merged
 /// first so that faces meeting along a geometric edge share the new vertices too. Children keep
-/// their parent's data (E, R, material, surface) and orientation. max_edge = 0 returns a copy.
-/// Throws Error for a negative or non-finite max_edge, or when more than max_faces would result.
-/// Cost: O(output size + n log n).
+/// their parent's data (E, R, material, surface), orientation and, interpolated, lightmap UVs.
+/// max_edge = 0 returns a copy. Throws Error for a negative or non-finite max_edge, or when more
+/// than max_faces would result. Cost: O(output size + n log n).
 template <SpectrumType S>
 Mesh<S> subdivide(const Mesh<S>& mesh, const SubdivisionOptions& options = {}) {
     if (!std::isfinite(options.max_edge) || options.max_edge < 0.0)

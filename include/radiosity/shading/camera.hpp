@@ -71,12 +71,26 @@ inline std::pair<double, double> depth_range(const ShadedMesh& m, const glm::dma
 }
 }  // namespace detail
 
+/// Texture lookup as graphics hardware does it (bilinear filtering, clamp to edge): the value at
+/// uv of a picture whose texel (x, y) has its centre at ((x + 0.5) / W, (y + 0.5) / H).
+inline glm::vec3 sample_bilinear(const Image& texture, glm::vec2 uv) {
+    const float x = uv.x * float(texture.width) - 0.5f, y = uv.y * float(texture.height) - 0.5f;
+    const float fx = std::floor(x), fy = std::floor(y), tx = x - fx, ty = y - fy;
+    auto at = [&](float i, float j) {
+        return texture.at(std::clamp(int(i), 0, texture.width - 1),
+                          std::clamp(int(j), 0, texture.height - 1));
+    };
+    return (1 - ty) * ((1 - tx) * at(fx, fy) + tx * at(fx + 1, fy)) +
+           ty * ((1 - tx) * at(fx, fy + 1) + tx * at(fx + 1, fy + 1));
+}
+
 /// Renders the mesh as the camera sees it: every triangle through the shared rasteriser
-/// (near-plane clipping, top-left rule), nearest surface kept per pixel, vertex colours
-/// interpolated perspective-correctly. Back faces are drawn unless options.cull_back_faces.
-/// Throws Error for bad options. Cost: O(triangles + covered pixels).
-inline Image render(const ShadedMesh& mesh, const Camera& camera,
-                    const RenderOptions& options = {}) {
+/// (near-plane clipping, top-left rule), nearest surface kept per pixel, and the pixel's value
+/// shade(triangle index, perspective-correct barycentric weights). Back faces are drawn unless
+/// options.cull_back_faces. Throws Error for bad options. Cost: O(triangles + covered pixels).
+template <class Shade>
+Image render_with(const ShadedMesh& mesh, const Camera& camera, const RenderOptions& options,
+                  Shade&& shade) {
     detail::check_view(camera, options);
     const glm::dmat4 view = glm::lookAt(camera.eye, camera.target, camera.up);
     const auto [near, far] = detail::depth_range(mesh, view);
@@ -87,7 +101,8 @@ inline Image render(const ShadedMesh& mesh, const Camera& camera,
         options.width, options.height,
         std::vector<glm::vec3>(std::size_t(options.width) * options.height, options.background)};
     std::vector<double> depth(image.pixels.size(), std::numeric_limits<double>::infinity());
-    for (const auto& t : mesh.triangles) {
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
+        const auto& t = mesh.triangles[i];
         if (options.cull_back_faces) {  // the eye behind the triangle's plane sees its back
             const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]],
                        &c = mesh.positions[t[2]];
@@ -100,12 +115,38 @@ inline Image render(const ShadedMesh& mesh, const Camera& camera,
             const std::size_t at = std::size_t(f.y) * options.width + f.x;
             if (f.depth >= depth[at]) return;
             depth[at] = f.depth;
-            image.pixels[at] = glm::vec3(f.weight.x * glm::dvec3(mesh.colours[t[0]]) +
-                                         f.weight.y * glm::dvec3(mesh.colours[t[1]]) +
-                                         f.weight.z * glm::dvec3(mesh.colours[t[2]]));
+            image.pixels[at] = shade(i, f.weight);
         });
     }
     return image;
+}
+
+/// Renders the mesh with its vertex colours interpolated (Gouraud 1971), perspective-correctly.
+inline Image render(const ShadedMesh& mesh, const Camera& camera,
+                    const RenderOptions& options = {}) {
+    return render_with(mesh, camera, options, [&](std::size_t i, const glm::dvec3& w) {
+        const auto& t = mesh.triangles[i];
+        return glm::vec3(w.x * glm::dvec3(mesh.colours[t[0]]) +
+                         w.y * glm::dvec3(mesh.colours[t[1]]) +
+                         w.z * glm::dvec3(mesh.colours[t[2]]));
+    });
+}
+
+/// Renders the mesh textured with a lightmap, as a game engine shows a baked scene: the lightmap
+/// UVs interpolated perspective-correctly, the lightmap sampled bilinearly. Throws Error if the
+/// mesh has no UVs or the lightmap is empty.
+inline Image render_lightmapped(const ShadedMesh& mesh, const Image& lightmap, const Camera& camera,
+                                const RenderOptions& options = {}) {
+    if (mesh.uvs.size() != mesh.positions.size())
+        throw Error("render_lightmapped: the mesh has no lightmap UVs");
+    if (lightmap.width < 1 || lightmap.height < 1)
+        throw Error("render_lightmapped: the lightmap is empty");
+    return render_with(mesh, camera, options, [&](std::size_t i, const glm::dvec3& w) {
+        const auto& t = mesh.triangles[i];
+        const glm::dvec2 uv = w.x * glm::dvec2(mesh.uvs[t[0]]) + w.y * glm::dvec2(mesh.uvs[t[1]]) +
+                              w.z * glm::dvec2(mesh.uvs[t[2]]);
+        return sample_bilinear(lightmap, glm::vec2(uv));
+    });
 }
 
 }  // namespace radiosity

@@ -13,6 +13,7 @@
 #include <map>
 #include <numbers>
 #include <numeric>
+#include <tuple>
 #include <vector>
 
 namespace radiosity {
@@ -36,8 +37,8 @@ inline void fan(ShadedMesh& out, const std::vector<std::uint32_t>& corners) {
 }
 }  // namespace detail
 
-/// Flat shading: every patch gets its own vertices, coloured with its radiosity B (as RGB).
-/// Cost: O(faces).
+/// Flat shading: every patch gets its own vertices, coloured with its radiosity B (as RGB), with
+/// the patch's lightmap UVs if it has them. Cost: O(faces).
 template <SpectrumType S>
 ShadedMesh flat_shading(const Mesh<S>& mesh) {
     ShadedMesh out;
@@ -49,6 +50,7 @@ ShadedMesh flat_shading(const Mesh<S>& mesh) {
             out.positions.push_back(p);
             out.colours.push_back(c);
         }
+        for (const glm::vec2& uv : corner_uvs(mesh, f)) out.uvs.push_back(uv);
         detail::fan(out, corners);
     }
     return out;
@@ -57,7 +59,9 @@ ShadedMesh flat_shading(const Mesh<S>& mesh) {
 /// Smooth shading (see the file comment). Around each mesh vertex the faces are grouped: two
 /// faces sharing an edge at that vertex are in one group if they have the same material and
 /// their normals differ by at most the crease angle. Each group gets its own output vertex,
-/// coloured with the area-weighted mean B of the group's faces. Cost: O(faces + vertices).
+/// coloured with the area-weighted mean B of the group's faces. Where the mesh has lightmap UVs,
+/// a group's corners with different UVs (a seam of the UV charts) get separate output vertices of
+/// the same colour, so the light stays continuous across the seam. Cost: O(faces + vertices).
 template <SpectrumType S>
 ShadedMesh smooth_shading(const Mesh<S>& mesh, const SmoothShadingOptions& options = {}) {
     const double cos_crease = std::cos(options.crease_angle_degrees * std::numbers::pi / 180.0);
@@ -95,12 +99,15 @@ ShadedMesh smooth_shading(const Mesh<S>& mesh, const SmoothShadingOptions& optio
             if (f1.is_valid() && f2.is_valid() && smooth(f1, f2))
                 group[find(index(f1))] = find(index(f2));
         }
-        std::map<std::size_t, std::uint32_t> made;  // group root -> output vertex
+        // (group root, UV) -> output vertex
+        std::map<std::tuple<std::size_t, float, float>, std::uint32_t> made;
+        std::map<std::size_t, glm::vec3> group_colour;
         for (std::size_t k = 0; k < faces.size(); ++k) {
             const std::size_t root = find(k);
-            auto [it, fresh] =
-                made.try_emplace(root, static_cast<std::uint32_t>(out.positions.size()));
-            if (fresh) {
+            const glm::vec2 uv = corner_uv(mesh, faces[k], v);
+            auto [it, fresh] = made.try_emplace({root, uv.x, uv.y},
+                                                static_cast<std::uint32_t>(out.positions.size()));
+            if (fresh && group_colour.count(root) == 0) {
                 glm::dvec3 sum(0.0);
                 double weight = 0.0;
                 for (std::size_t m = 0; m < faces.size(); ++m) {
@@ -109,9 +116,13 @@ ShadedMesh smooth_shading(const Mesh<S>& mesh, const SmoothShadingOptions& optio
                     sum += a * glm::dvec3(detail::rgb_of(mesh.data(faces[m]).radiosity));
                     weight += a;
                 }
+                group_colour[root] = glm::vec3(sum / weight);
+            }
+            if (fresh) {
                 const auto& p = mesh.point(v);
                 out.positions.emplace_back(p[0], p[1], p[2]);
-                out.colours.push_back(glm::vec3(sum / weight));
+                out.colours.push_back(group_colour.at(root));
+                if (has_corner_uvs(mesh)) out.uvs.push_back(uv);
             }
             corner[{v.idx(), faces[k].idx()}] = it->second;
         }
