@@ -21,6 +21,8 @@
 #include <radiosity/io/rrv.hpp>
 #include <radiosity/io/rrv_primitives.hpp>
 #include <radiosity/io/scenes.hpp>
+#include <radiosity/lightmap/atlas.hpp>
+#include <radiosity/lightmap/charts.hpp>
 #include <radiosity/mesh/manifold.hpp>
 #include <radiosity/mesh/mesh.hpp>
 #include <radiosity/mesh/patch_table.hpp>
