@@ -1,7 +1,7 @@
 // radiosity: the command-line program. Solves a scene (an OBJ file or a built-in scene) by the
-// radiosity method and writes a picture, a PLY mesh and CSV dumps. With no arguments it renders
-// the built-in Cornell box into cornell_box.png. Errors: one line on stderr, exit status 1
-// (2 for a bad command line).
+// radiosity method and writes a picture, a PLY mesh, glTF, a lightmap and CSV dumps. With no
+// arguments it renders the built-in Cornell box into cornell_box.png. Errors: one line on stderr,
+// exit status 1 (2 for a bad command line).
 
 #include <radiosity/radiosity.hpp>
 
@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <unistd.h>
 #include <vector>
@@ -42,6 +43,11 @@ struct Args {
     bool quiet = false;
     bool ply_float = false;  // linear float colours in the PLY instead of 8-bit sRGB
     bool partial = false;    // on Ctrl-C during the solve, still write what was computed
+    std::string lightmap;    // bake a lightmap into this picture (.hdr, .exr, .png)
+    int lightmap_size = 256;  // 2.8k patches on the Cornell box: a bake of seconds
+    double texel_density = 0.0;  // > 0: texels per scene unit instead of a fixed size
+    int gutter = 2;
+    double texels_per_patch = 4.0;
 };
 
 /// Set by Ctrl-C (SIGINT); the progress callback then asks the library to stop.
@@ -207,10 +213,41 @@ void write_patches(const std::string& path, const radiosity::SolveResult<Colour>
     if (!out) throw radiosity::Error(path + ": write failed");
 }
 
+radiosity::LightmapOptions lightmap_options(const Args& a) {
+    radiosity::LightmapOptions o;
+    o.unwrap.size = a.lightmap_size;
+    o.unwrap.texel_density = a.texel_density;
+    o.unwrap.gutter = a.gutter;
+    o.bake.dilation = a.gutter;  // fill each chart's own gutter, no further
+    o.texels_per_patch = a.texels_per_patch;
+    return o;
+}
+
+/// Writes the lightmap, and the glTF textured with it; the PNG and the glTF's texture use the
+/// same exposure, chosen from the lightmap's texels.
+void write_lightmap(const Args& a, const radiosity::BakeResult<Colour>& b,
+                    const radiosity::ToneMapOptions& tone) {
+    radiosity::write_image(b.lightmap.image, a.lightmap, tone);
+    if (!a.gltf.empty())
+        radiosity::write_gltf_lightmapped(b.shaded, b.lightmap.image, a.gltf,
+                                          radiosity::exposure_scale(b.lightmap.image.pixels, tone));
+    using radiosity::TexelState;
+    if (!a.quiet)
+        std::fprintf(stderr,
+                     "lightmap %dx%d, %s UVs (%zu charts, %.4g texels per unit): %zu surface, %zu "
+                     "inside geometry, %zu gutter texels; unwrap %.2f s, solve %.2f s, bake %.2f "
+                     "s; wrote %s\n",
+                     b.atlas.width, b.atlas.height, b.generated_uvs ? "generated" : "the scene's",
+                     b.atlas.charts, b.atlas.texel_density, b.lightmap.count(TexelState::surface),
+                     b.lightmap.count(TexelState::inside), b.lightmap.count(TexelState::dilated),
+                     b.unwrap_seconds, b.solve_seconds, b.bake_seconds, a.lightmap.c_str());
+}
+
 int run(const Args& a) {
     const auto t0 = std::chrono::steady_clock::now();
     ProgressBar bar(a.quiet);
     const auto scene = load_scene(a.scene);
+    if (!a.lightmap.empty()) radiosity::picture_format(a.lightmap);  // refuse a bad name now
 
     radiosity::SolveOptions o;
     o.form_factor = radiosity::parse_form_factor_kind(a.form_factor);
@@ -224,8 +261,15 @@ int run(const Args& a) {
     o.progress = [&bar](const radiosity::Progress& p) { return bar(p); };
     std::signal(SIGINT, on_interrupt);
     radiosity::SolveResult<Colour> result;
+    std::optional<radiosity::BakeResult<Colour>> baked;
     try {
-        result = radiosity::solve(scene, o);
+        if (!a.lightmap.empty()) {  // patches follow the texels unless --max-edge says finer
+            o.subdivision.max_edge = std::max(a.max_edge, 0.0);
+            baked = radiosity::bake(scene, o, lightmap_options(a));
+            result = baked->solution;
+        } else {
+            result = radiosity::solve(scene, o);
+        }
     } catch (const radiosity::Cancelled&) {
         bar.finish();
         std::fprintf(stderr,
@@ -248,16 +292,18 @@ int run(const Args& a) {
 
     // Without any output named, a picture: cornell_box.png for the Cornell box, else the
     // scene's name with .png (in the current folder).
-    const bool no_output =
-        a.image.empty() && a.ply.empty() && a.dump_patches.empty() && a.dump_form_factors.empty();
+    const bool no_output = a.image.empty() && a.ply.empty() && a.dump_patches.empty() &&
+                           a.dump_form_factors.empty() && a.lightmap.empty();
     const std::string image = !no_output ? a.image
                               : a.scene == "cornell"
                                   ? "cornell_box.png"
                                   : std::filesystem::path(a.scene).stem().string() + ".png";
-    const radiosity::ShadedMesh shaded =
-        a.flat ? radiosity::flat_shading(result.mesh) : radiosity::smooth_shading(result.mesh);
+    const radiosity::ShadedMesh shaded = baked    ? baked->shaded
+                                         : a.flat ? radiosity::flat_shading(result.mesh)
+                                                  : radiosity::smooth_shading(result.mesh);
     radiosity::ToneMapOptions tone;
     tone.stops = a.exposure;
+    if (baked) write_lightmap(a, *baked, tone);
     if (!image.empty() || !a.hdr.empty()) {
         // Back faces culled: a closed room seen from outside shows its inside (a cut-away).
         const auto picture =
@@ -267,7 +313,7 @@ int run(const Args& a) {
         if (!a.hdr.empty()) radiosity::write_hdr(picture, a.hdr);
     }
     if (!a.rrv_out.empty()) radiosity::write_rrv(result.mesh, a.rrv_out);
-    if (!a.gltf.empty())
+    if (!a.gltf.empty() && !baked)
         radiosity::write_gltf(shaded, a.gltf, radiosity::exposure_scale(shaded.colours, tone));
     if (!a.ply.empty())
         radiosity::write_ply(
@@ -345,7 +391,24 @@ int main(int argc, char** argv) {
     app.add_option("--form-factors-text", a.form_factors_text,
                    "write F as plain text for thermal tools: n, the areas, then the rows");
     app.add_option("--gltf", a.gltf,
-                   "write the shaded mesh as glTF 2.0 with vertex colours (.glb: one binary file)");
+                   "write the shaded mesh as glTF 2.0 with vertex colours, or with --lightmap "
+                   "textured with the lightmap (.glb: one binary file)");
+    app.add_option("--lightmap", a.lightmap,
+                   "bake a lightmap into this picture: .hdr or .exr (linear radiance) or .png "
+                   "(8-bit sRGB); uses the scene's UVs (OBJ vt) or makes them");
+    app.add_option("--lightmap-size", a.lightmap_size, "lightmap width and height in texels")
+        ->check(CLI::Range(8, 16384))
+        ->capture_default_str();
+    app.add_option("--texel-density", a.texel_density,
+                   "texels per scene unit (the lightmap size then follows from it)")
+        ->check(CLI::NonNegativeNumber);
+    app.add_option("--lightmap-gutter", a.gutter, "empty texels around each chart, dilated")
+        ->check(CLI::Range(0, 64))
+        ->capture_default_str();
+    app.add_option("--texels-per-patch", a.texels_per_patch,
+                   "longest patch edge in lightmap texels (0: use --max-edge)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
     app.add_option("--rrv-out", a.rrv_out,
                    "write the solved scene in RRV's XML format, a radiosity per triangle");
     app.add_option("--hdr", a.hdr, "write a linear Radiance HDR picture (radiance B / pi)");

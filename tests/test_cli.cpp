@@ -154,3 +154,23 @@ TEST_CASE("a NaN tolerance is rejected") {
     CHECK(r.status != 0);
     CHECK(line_count(r.err) == 1);
 }
+
+TEST_CASE("--lightmap bakes the Cornell box into an HDR lightmap and a glTF that shows it") {
+    const Run r = run("cornell --lightmap '" + out("lm.hdr") + "' --lightmap-size 128 --gltf '" +
+                      out("lm.gltf") + "'");
+    REQUIRE_MESSAGE(r.status == 0, r.err);
+    std::ifstream hdr(out("lm.hdr"), std::ios::binary);
+    std::string magic(10, '\0');
+    hdr.read(magic.data(), 10);
+    CHECK(magic == "#?RADIANCE");
+    std::ifstream gltf(out("lm.gltf"));
+    std::stringstream doc;
+    doc << gltf.rdbuf();
+    CHECK(doc.str().find("\"TEXCOORD_0\"") != std::string::npos);
+    CHECK(doc.str().find("\"image/png\"") != std::string::npos);
+    CHECK(std::filesystem::file_size(out("lm.bin")) > 128 * 128 / 8);
+    check_one_line_error("cornell --lightmap '" + out("lm.tga") + "' --lightmap-size 64",
+                         "unknown picture format");
+    check_one_line_error("cornell --lightmap '" + out("lm.hdr") + "' --lightmap-size 4",
+                         "--lightmap-size");
+}

@@ -22,7 +22,10 @@
 #include <radiosity/io/rrv_primitives.hpp>
 #include <radiosity/io/scenes.hpp>
 #include <radiosity/lightmap/atlas.hpp>
+#include <radiosity/lightmap/bake.hpp>
 #include <radiosity/lightmap/charts.hpp>
+#include <radiosity/lightmap/lightmap.hpp>
+#include <radiosity/mesh/corner_uv.hpp>
 #include <radiosity/mesh/manifold.hpp>
 #include <radiosity/mesh/mesh.hpp>
 #include <radiosity/mesh/patch_table.hpp>

@@ -100,19 +100,31 @@ inline void write_exr(const Image& image, const std::string& path) {
     }
 }
 
+/// The picture formats write_image knows.
+enum class PictureFormat { png, hdr, exr };
+
+/// The format a file name's extension names: .png, .hdr or .exr. Throws Error for others, so a
+/// program can refuse a bad output name before it computes anything.
+inline PictureFormat picture_format(const std::string& path) {
+    const std::string ext = std::filesystem::path(path).extension().string();
+    if (ext == ".png") return PictureFormat::png;
+    if (ext == ".hdr") return PictureFormat::hdr;
+    if (ext == ".exr") return PictureFormat::exr;
+    throw Error("'" + path + "': unknown picture format (use .png, .hdr or .exr)");
+}
+
 /// Writes a picture in the format its extension names: .png (8-bit sRGB after the tone map),
 /// .hdr (Radiance) or .exr (OpenEXR), both linear radiance. Throws Error for other names.
 inline void write_image(const Image& image, const std::string& path,
                         const ToneMapOptions& tone = {}) {
-    const std::string ext = std::filesystem::path(path).extension().string();
-    if (ext == ".png")
-        write_png(image, path, tone);
-    else if (ext == ".hdr")
-        write_hdr(image, path);
-    else if (ext == ".exr")
-        write_exr(image, path);
-    else
-        throw Error("'" + path + "': unknown picture format (use .png, .hdr or .exr)");
+    switch (picture_format(path)) {
+        case PictureFormat::png:
+            return write_png(image, path, tone);
+        case PictureFormat::hdr:
+            return write_hdr(image, path);
+        case PictureFormat::exr:
+            return write_exr(image, path);
+    }
 }
 
 }  // namespace radiosity

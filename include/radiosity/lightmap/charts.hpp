@@ -34,6 +34,8 @@ namespace radiosity {
 struct ChartOptions {
     double max_chart_angle_degrees = 45.0;  ///< faces whose normals differ more from the seed's
                                             ///< normal start a new chart; in (0, 90)
+    double crease_angle_degrees = 30.0;     ///< never cross an edge sharper than this
+    bool split_materials = true;            ///< never cross a change of material
 };
 
 /// One chart: faces flattened together into the plane, in scene units, placed so that its
@@ -401,7 +403,10 @@ inline Vec2 min_area_rectangle_axis(std::span<const Vec2> hull) {
 /// Splits the mesh's faces into charts and flattens each (see the file comment). Faces are
 /// adjacent when they share a geometric edge after coincident vertices are merged. Each chart
 /// grows breadth-first from a seed, the largest face not yet in a chart (ties by index), over
-/// neighbours whose normal lies within max_chart_angle_degrees of the seed's; a face whose
+/// neighbours whose normal lies within max_chart_angle_degrees of the seed's. It never crosses
+/// an edge where smooth shading breaks (a crease sharper than crease_angle_degrees, or a change
+/// of material): the light may jump there, and a jump inside a chart would be blurred across the
+/// edge by the texture's bilinear filter (an emitter's light leaking onto its frame); a face whose
 /// projection onto the seed's plane would overlap the chart's interior, or be mirrored, is
 /// left for a later chart. The chart is then projected onto the plane of its area-weighted
 /// mean normal (or kept in the seed's plane where that projection would fold or overlap) and
@@ -417,6 +422,17 @@ std::vector<Chart> make_charts(const M& mesh, const ChartOptions& options = {}) 
     const detail::Adjacency adj = detail::face_adjacency(g);
     const std::size_t nf = g.faces();
     const double min_cos = std::cos(angle * std::numbers::pi / 180.0);
+    const double crease_cos = std::cos(options.crease_angle_degrees * std::numbers::pi / 180.0);
+    // Whether light is continuous across the edge between faces a and b (as smooth shading has it).
+    auto smooth = [&](std::uint32_t a, std::uint32_t b) {
+        if (glm::dot(g.normal[a], g.normal[b]) < crease_cos) return false;
+        if constexpr (requires { mesh.data(typename M::FaceHandle(0)).material; })
+            if (options.split_materials &&
+                mesh.data(typename M::FaceHandle(static_cast<int>(a))).material !=
+                    mesh.data(typename M::FaceHandle(static_cast<int>(b))).material)
+                return false;
+        return true;
+    };
     // Overlaps smaller than this (scene units) are rounding, e.g. two unmerged copies of an edge.
     const double tol = 1e-8 * g.diagonal;
     // Cells of the mean face size: a face covers about one cell, a cell holds about one face.
@@ -453,7 +469,7 @@ std::vector<Chart> make_charts(const M& mesh, const ChartOptions& options = {}) 
             const std::uint32_t f = chart.faces[head];
             for (std::uint32_t k = adj.start[f]; k < adj.start[f + 1]; ++k) {
                 const std::uint32_t n = adj.neighbour[k];
-                if (chart_of[n] != none || visited[n] == id) continue;
+                if (chart_of[n] != none || visited[n] == id || !smooth(f, n)) continue;
                 visited[n] = id;  // refused faces stay refused: the chart only grows
                 if (glm::dot(g.normal[n], seed_normal) < min_cos) continue;
                 if (!detail::project_face(g, n, seed_frame, origin, tris)) continue;
