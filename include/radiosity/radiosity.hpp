@@ -30,6 +30,7 @@
 #include <radiosity/mesh/mesh.hpp>
 #include <radiosity/mesh/patch_table.hpp>
 #include <radiosity/mesh/subdivide.hpp>
+#include <radiosity/mesh/weld.hpp>
 #include <radiosity/progress.hpp>
 #include <radiosity/shading/camera.hpp>
 #include <radiosity/shading/shaded_mesh.hpp>

@@ -14,7 +14,7 @@
 #include <radiosity/geometry/polygon.hpp>
 #include <radiosity/geometry/vec.hpp>
 #include <radiosity/mesh/mesh.hpp>
-#include <radiosity/mesh/subdivide.hpp>
+#include <radiosity/mesh/weld.hpp>
 
 #include <algorithm>
 #include <array>
@@ -69,29 +69,9 @@ struct FaceGeometry {
     std::size_t faces() const { return area.size(); }
 };
 
-/// Hash of a cell of a uniform 3-D grid: splitmix64's finaliser (Steele et al. 2014) over the
-/// coordinates. Cell coordinates of a regular mesh are multiples of one large number, which
-/// plain multiply-and-xor hashes map to few buckets.
-struct CellHash {
-    static std::uint64_t mix(std::uint64_t z) {
-        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-        return z ^ (z >> 31);
-    }
-    std::size_t operator()(const std::array<std::int64_t, 3>& c) const {
-        std::uint64_t h = 0;
-        for (std::int64_t x : c) h = mix(h ^ static_cast<std::uint64_t>(x));
-        return static_cast<std::size_t>(h);
-    }
-};
-
 /// Gathers the faces' corners and merges coincident vertices (within 1e-9 of the scene's size)
 /// into one id, so that faces that do not share vertex handles (separate quads of one wall,
-/// polygon soups from files) are still adjacent across their common edges. Points go into a
-/// hash grid of cells 2 eps wide, so each is compared only with the points of the (at most 8)
-/// cells its eps-ball touches, and close pairs are joined by union-find: O(n) expected, even
-/// for walls where thousands of vertices share one coordinate (a sweep along x would compare
-/// them all with each other).
+/// polygon soups from files) are still adjacent across their common edges (weld.hpp).
 template <class M>
 FaceGeometry face_geometry(const M& mesh) {
     FaceGeometry g;
@@ -106,35 +86,7 @@ FaceGeometry face_geometry(const M& mesh) {
         hi = glm::max(hi, x);
     }
     g.diagonal = nv > 0 ? glm::length(hi - lo) : 0.0;
-    const double eps = 1e-9 * g.diagonal;
-    const double cell = eps > 0.0 ? 2.0 * eps : 1.0;
-    auto cell_of = [&](const Vec3& x) {
-        return std::array<std::int64_t, 3>{static_cast<std::int64_t>(std::floor(x.x / cell)),
-                                           static_cast<std::int64_t>(std::floor(x.y / cell)),
-                                           static_cast<std::int64_t>(std::floor(x.z / cell))};
-    };
-    // Each cell keeps its last point; next[v] links to the cell's point before v.
-    constexpr std::uint32_t end = std::numeric_limits<std::uint32_t>::max();
-    std::unordered_map<std::array<std::int64_t, 3>, std::uint32_t, CellHash> grid;
-    grid.reserve(nv);
-    std::vector<std::uint32_t> next(nv, end);
-    DisjointSets sets(nv);
-    for (std::size_t v = 0; v < nv; ++v) {
-        const auto c0 = cell_of(p[v] - eps), c1 = cell_of(p[v] + eps);
-        for (std::int64_t x = c0[0]; x <= c1[0]; ++x)
-            for (std::int64_t y = c0[1]; y <= c1[1]; ++y)
-                for (std::int64_t z = c0[2]; z <= c1[2]; ++z) {
-                    const auto it = grid.find({x, y, z});
-                    if (it == grid.end()) continue;
-                    for (std::uint32_t u = it->second; u != end; u = next[u])
-                        if (glm::distance(p[u], p[v]) <= eps) sets.unite(u, v);
-                }
-        auto [it, fresh] = grid.try_emplace(cell_of(p[v]), static_cast<std::uint32_t>(v));
-        if (!fresh) {
-            next[v] = it->second;
-            it->second = static_cast<std::uint32_t>(v);
-        }
-    }
+    const std::vector<std::size_t> group = weld_points(p, 1e-9 * g.diagonal);
 
     g.first.push_back(0);
     for (auto f : mesh.faces()) {
@@ -142,7 +94,7 @@ FaceGeometry face_geometry(const M& mesh) {
         for (auto v : mesh.fv_range(f)) {
             const auto i = static_cast<std::size_t>(v.idx());
             g.point.push_back(p[i]);
-            g.welded.push_back(static_cast<std::uint32_t>(sets.find(i)));
+            g.welded.push_back(static_cast<std::uint32_t>(group[i]));
         }
         g.first.push_back(static_cast<std::uint32_t>(g.point.size()));
         const std::span<const Vec3> poly(g.point.data() + begin, g.point.size() - begin);

@@ -9,6 +9,7 @@
 #include <radiosity/geometry/polygon.hpp>
 #include <radiosity/mesh/manifold.hpp>
 #include <radiosity/mesh/mesh.hpp>
+#include <radiosity/mesh/weld.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -30,26 +31,6 @@ struct SubdivisionOptions {
 
 namespace detail {
 
-/// Union-find with path halving (Tarjan 1975), for merging vertices and edge classes.
-class DisjointSets {
-  public:
-    explicit DisjointSets(std::size_t n) : parent_(n) {
-        std::iota(parent_.begin(), parent_.end(), std::size_t{0});
-    }
-    std::size_t find(std::size_t x) {
-        while (parent_[x] != x) x = parent_[x] = parent_[parent_[x]];
-        return x;
-    }
-    void unite(std::size_t a, std::size_t b) {
-        a = find(a);
-        b = find(b);
-        if (a != b) parent_[std::max(a, b)] = std::min(a, b);  // deterministic representative
-    }
-
-  private:
-    std::vector<std::size_t> parent_;
-};
-
 /// The input as polygons over merged vertices: coincident points (within eps) become one.
 struct Welded {
     std::vector<Vec3> point;                       // one per merged vertex
@@ -58,8 +39,7 @@ struct Welded {
     std::vector<std::vector<glm::vec2>> uv;        // lightmap UV per corner, if the mesh has them
 };
 
-/// Merges vertices closer than eps: sort by x and compare neighbours within eps in x.
-/// O(n log n) for scenes without huge clusters of equal x.
+/// Merges vertices closer than eps (weld.hpp). O(n) expected.
 template <class M>
 Welded weld(const M& mesh, double eps) {
     const std::size_t nv = mesh.n_vertices();
@@ -68,20 +48,12 @@ Welded weld(const M& mesh, double eps) {
         const auto& q = mesh.point(v);
         p[static_cast<std::size_t>(v.idx())] = Vec3(q[0], q[1], q[2]);
     }
-    std::vector<std::size_t> order(nv);
-    std::iota(order.begin(), order.end(), std::size_t{0});
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-        return p[a].x < p[b].x || (p[a].x == p[b].x && a < b);
-    });
-    DisjointSets sets(nv);
-    for (std::size_t s = 0; s < nv; ++s)
-        for (std::size_t t = s + 1; t < nv && p[order[t]].x - p[order[s]].x <= eps; ++t)
-            if (glm::distance(p[order[s]], p[order[t]]) <= eps) sets.unite(order[s], order[t]);
+    const std::vector<std::size_t> group = weld_points(p, eps);
     Welded w;
     std::vector<std::uint32_t> id(nv, UINT32_MAX);
     std::vector<std::uint32_t> merged(nv);
     for (std::size_t v = 0; v < nv; ++v) {
-        const std::size_t r = sets.find(v);
+        const std::size_t r = group[v];
         if (id[r] == UINT32_MAX) {
             id[r] = static_cast<std::uint32_t>(w.point.size());
             w.point.push_back(p[r]);
