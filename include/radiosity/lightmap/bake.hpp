@@ -193,8 +193,13 @@ inline bool inside_geometry(const Bvh& bvh, const PatchTable& triangles, const V
     const Vec3 t = glm::normalize(glm::cross(a, n)), b = glm::cross(n, t);
     const Vec3 origin = p + offset * n;
     Rng rng(seed);
+    const double need = o.inside_fraction * o.inside_rays;  // inside if back > need
     int back = 0;
     for (int r = 0; r < o.inside_rays; ++r) {
+        // Stop as soon as the remaining rays cannot change the verdict (the same verdict as
+        // casting all of them, for about half the rays).
+        if (back > need) return true;
+        if (back + (o.inside_rays - r) <= need) return false;
         // Malley's method: uniform on the disc (stratified in radius^2), lifted to the hemisphere.
         const double u = (r + rng.uniform()) / o.inside_rays,
                      phi = 2.0 * std::numbers::pi * rng.uniform();
@@ -206,44 +211,60 @@ inline bool inside_geometry(const Bvh& bvh, const PatchTable& triangles, const V
     return back > o.inside_fraction * o.inside_rays;
 }
 
-/// One growth step of a fill or a dilation: every texel for which `want` holds and which has
-/// neighbours already holding light takes the mean of those of them in the lowest-numbered
-/// island, and joins that island. Decided on a snapshot, so the order of the scan is irrelevant.
-/// Returns the number of texels filled.
+/// Growth of a fill or a dilation, ring by ring, for at most `passes` rings: in each ring, every
+/// texel for which `want` holds and which has neighbours already holding light takes the mean
+/// of those of them in the lowest-numbered island, and joins that island. A ring is decided on
+/// the light of the rings before it, so the order within a ring is irrelevant; only the
+/// frontier is visited, so the cost is O(texels filled), not O(rings x atlas).
 template <class Want>
-std::size_t grow(Lightmap& lm, std::vector<bool>& has_light, Want want, TexelState now) {
+void grow(Lightmap& lm, std::vector<bool>& has_light, Want want, TexelState now, int passes) {
     const int w = lm.image.width, h = lm.image.height;
-    const std::vector<bool> before = has_light;
+    auto neighbours = [&](std::size_t i, auto&& visit) {
+        const int x = int(i % std::size_t(w)), y = int(i / std::size_t(w));
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int nx = x + dx, ny = y + dy;
+                if ((dx != 0 || dy != 0) && nx >= 0 && ny >= 0 && nx < w && ny < h)
+                    visit(lm.index(nx, ny));
+            }
+    };
+    std::vector<bool> queued(has_light.size(), false);
+    std::vector<std::size_t> frontier;
+    auto enqueue = [&](std::size_t j) {
+        if (!has_light[j] && !queued[j] && want(j)) {
+            queued[j] = true;
+            frontier.push_back(j);
+        }
+    };
+    for (std::size_t i = 0; i < has_light.size(); ++i)
+        if (has_light[i]) neighbours(i, enqueue);
     std::vector<std::pair<std::size_t, std::pair<glm::vec3, std::uint32_t>>> fills;
-    for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-            const std::size_t i = lm.index(x, y);
-            if (before[i] || !want(i)) continue;
+    for (int pass = 0; pass < passes && !frontier.empty(); ++pass) {
+        fills.clear();
+        for (std::size_t i : frontier) {
             std::uint32_t island = Lightmap::no_island;
+            neighbours(i, [&](std::size_t j) {
+                if (has_light[j]) island = std::min(island, lm.island[j]);
+            });
             glm::vec3 sum(0.0f);
             int n = 0;
-            for (int pass = 0; pass < 2; ++pass)  // find the lowest island, then average it
-                for (int dy = -1; dy <= 1; ++dy)
-                    for (int dx = -1; dx <= 1; ++dx) {
-                        const int nx = x + dx, ny = y + dy;
-                        if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-                        const std::size_t j = lm.index(nx, ny);
-                        if (!before[j]) continue;
-                        if (pass == 0) island = std::min(island, lm.island[j]);
-                        if (pass == 1 && lm.island[j] == island) {
-                            sum += lm.image.pixels[j];
-                            ++n;
-                        }
-                    }
-            if (n > 0) fills.push_back({i, {sum / float(n), island}});
+            neighbours(i, [&](std::size_t j) {
+                if (has_light[j] && lm.island[j] == island) {
+                    sum += lm.image.pixels[j];
+                    ++n;
+                }
+            });
+            fills.push_back({i, {sum / float(n), island}});
         }
-    for (const auto& [i, f] : fills) {
-        lm.image.pixels[i] = f.first;
-        lm.island[i] = f.second;
-        lm.state[i] = now;
-        has_light[i] = true;
+        frontier.clear();
+        for (const auto& [i, f] : fills) {
+            lm.image.pixels[i] = f.first;
+            lm.island[i] = f.second;
+            lm.state[i] = now;
+            has_light[i] = true;
+        }
+        for (const auto& fill : fills) neighbours(fill.first, enqueue);
     }
-    return fills.size();
 }
 
 /// Evaluates every covered texel: the interpolated radiosity and point, and the inside test.
@@ -318,13 +339,11 @@ inline Lightmap bake_lightmap(const ShadedMesh& mesh, int width, int height,
     std::vector<bool> has_light(texels);
     for (std::size_t i = 0; i < texels; ++i) has_light[i] = lm.state[i] == TexelState::surface;
     auto inside = [&](std::size_t i) { return lm.state[i] == TexelState::inside; };
-    while (detail::grow(lm, has_light, inside, TexelState::inside) > 0) {
-    }
+    detail::grow(lm, has_light, inside, TexelState::inside, width + height);
     // Dilation: the gutter takes the light of its own chart only.
     for (std::size_t i = 0; i < texels; ++i) has_light[i] = lm.state[i] != TexelState::empty;
     auto empty = [&](std::size_t i) { return lm.state[i] == TexelState::empty; };
-    for (int pass = 0; pass < options.dilation; ++pass)
-        if (detail::grow(lm, has_light, empty, TexelState::dilated) == 0) break;
+    detail::grow(lm, has_light, empty, TexelState::dilated, options.dilation);
     return lm;
 }
 
