@@ -4,7 +4,7 @@
 /// "Conservative Rasterization", GPU Gems 2, ch. 42) takes the vertex-interpolated radiosity at
 /// its point on the surface - the texel centre if a triangle covers it, else the nearest point of
 /// the nearest triangle, so thin triangles are never lost. Texels whose point lies inside or
-/// behind geometry (most of a few short rays from it hit back faces) are refilled from valid
+/// behind geometry (most of a few rays from it hit back faces) are refilled from valid
 /// neighbours; then dilation grows every chart into its gutter, never over a valid texel and
 /// never from another chart. Everything per texel is seeded from its index: the result does not
 /// depend on the thread count.
