@@ -1,7 +1,9 @@
 #pragma once
-/// @file float4.hpp  Four floats processed together, for the BVH's four-boxes-at-once slab
-/// test: SSE2 where the compiler targets it (every x86-64 build), a plain array otherwise.
-/// Both paths give bit-identical results, so answers do not depend on the build.
+/// @file float4.hpp  Four floats processed together, for the BVH's four-at-once slab and
+/// triangle tests: SSE2 where the compiler targets it (every x86-64 build), a plain array
+/// otherwise. Both paths give bit-identical results, so answers do not depend on the build.
+
+#include <cmath>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -11,7 +13,7 @@
 
 namespace radiosity::detail {
 
-/// Four floats with the few lane-wise operations a slab test needs (SSE2 or scalar).
+/// Four floats with the few lane-wise operations the BVH needs (SSE2 or scalar).
 /// vmin and vmax return their second argument where either argument is NaN, exactly as SSE's
 /// minps / maxps do: the slab test relies on it to ignore a NaN slab distance.
 struct Float4 {
@@ -29,6 +31,9 @@ struct Float4 {
     void store(float* p) const {
         _mm_store_ps(p, v);
     }
+    friend Float4 operator+(Float4 a, Float4 b) {
+        return {_mm_add_ps(a.v, b.v)};
+    }
     friend Float4 operator-(Float4 a, Float4 b) {
         return {_mm_sub_ps(a.v, b.v)};
     }
@@ -43,9 +48,17 @@ struct Float4 {
     friend Float4 vmax(Float4 a, Float4 b) {
         return {_mm_max_ps(a.v, b.v)};
     }
+    /// Lane-wise |a| (the sign bit cleared).
+    friend Float4 vabs(Float4 a) {
+        return {_mm_andnot_ps(_mm_set1_ps(-0.0f), a.v)};
+    }
     /// Bit k set where a[k] <= b[k] (clear where either is NaN).
     friend int less_equal_mask(Float4 a, Float4 b) {
         return _mm_movemask_ps(_mm_cmple_ps(a.v, b.v));
+    }
+    /// Bit k set where a[k] < b[k] (clear where either is NaN).
+    friend int less_mask(Float4 a, Float4 b) {
+        return _mm_movemask_ps(_mm_cmplt_ps(a.v, b.v));
     }
 #else
     std::array<float, 4> v;
@@ -61,6 +74,9 @@ struct Float4 {
     void store(float* p) const {
         for (int k = 0; k < 4; ++k) p[k] = v[k];
     }
+    friend Float4 operator+(Float4 a, Float4 b) {
+        return lanes(a, b, [](float x, float y) { return x + y; });
+    }
     friend Float4 operator-(Float4 a, Float4 b) {
         return lanes(a, b, [](float x, float y) { return x - y; });
     }
@@ -75,10 +91,20 @@ struct Float4 {
     friend Float4 vmax(Float4 a, Float4 b) {
         return lanes(a, b, [](float x, float y) { return x > y ? x : y; });
     }
+    /// Lane-wise |a| (the sign bit cleared).
+    friend Float4 vabs(Float4 a) {
+        return lanes(a, a, [](float x, float) { return std::fabs(x); });
+    }
     /// Bit k set where a[k] <= b[k] (clear where either is NaN).
     friend int less_equal_mask(Float4 a, Float4 b) {
         int mask = 0;
         for (int k = 0; k < 4; ++k) mask |= (a.v[k] <= b.v[k] ? 1 : 0) << k;
+        return mask;
+    }
+    /// Bit k set where a[k] < b[k] (clear where either is NaN).
+    friend int less_mask(Float4 a, Float4 b) {
+        int mask = 0;
+        for (int k = 0; k < 4; ++k) mask |= (a.v[k] < b.v[k] ? 1 : 0) << k;
         return mask;
     }
 

@@ -69,19 +69,20 @@ class Bvh {
         build();
     }
 
-    std::size_t triangle_count() const { return triangles_.size(); }  ///< triangles held
-    std::size_t node_count() const { return nodes_.size(); }          ///< four-wide nodes
+    std::size_t triangle_count() const { return triangle_count_; }  ///< triangles held
+    std::size_t node_count() const { return nodes_.size(); }        ///< four-wide nodes
 
     /// Visibility: true if the open segment p -> q (endpoints excluded by a relative margin)
     /// hits a triangle of any patch other than a and b. Any hit ends the search.
     bool occluded(const Vec3& p, const Vec3& q, std::uint32_t a, std::uint32_t b) const {
         constexpr double margin = 1e-9;
         bool hit = false;
-        traverse(p, q - p, margin, 1.0 - margin, [&](const Triangle& tri, double, double, double) {
-            if (tri.patch == a || tri.patch == b) return false;
-            hit = true;
-            return true;  // stop: any hit will do
-        });
+        traverse(p, q - p, margin, 1.0 - margin,
+                 [&](const Triangle&, double, double, double) {
+                     hit = true;
+                     return true;  // stop: any hit will do
+                 },
+                 nullptr, {a, b});
         return hit;
     }
 
@@ -209,6 +210,19 @@ class Bvh {
         }
     };
 
+    /// Four consecutive triangles in single precision, lane by lane (v[3 * vertex + axis][lane])
+    /// with their patches: what the SIMD filter of the triangle test reads. 160 bytes.
+    struct alignas(16) TriangleBlock {
+        std::array<std::array<float, 4>, 9> v{};
+        std::array<std::uint32_t, 4> patch{};
+        void set(std::size_t lane, const Triangle& t) {
+            for (int i = 0; i < 3; ++i)
+                for (int a = 0; a < 3; ++a)
+                    v[3 * i + a][lane] = static_cast<float>(glm::value_ptr(t.v[i])[a]);
+            patch[lane] = t.patch;
+        }
+    };
+
     Box triangle_box(std::size_t t) const {
         Box b;
         for (const Vec3& p : triangles_[t].v) b.grow(p);
@@ -236,9 +250,32 @@ class Bvh {
             nodes_[0].set_box(0, binary[0].box);
             nodes_[0].first[0] = binary[0].first;
             nodes_[0].count[0] = binary[0].count;
-            return;
+        } else {
+            collapse(binary, 0);
         }
-        collapse(binary, 0);
+        make_blocks();
+    }
+
+    /// Lays every leaf's triangles out from a multiple of four (padding with copies that no
+    /// query reads, as the leaf's count excludes them), so that triangle k is lane k % 4 of
+    /// block k / 4, and fills the single-precision blocks.
+    void make_blocks() {
+        triangle_count_ = triangles_.size();
+        std::vector<Triangle> laid_out;
+        laid_out.reserve(triangles_.size() + triangles_.size() / 2 + 4);
+        for (Node& node : nodes_)
+            for (int k = 0; k < 4; ++k) {
+                if (node.count[k] == 0) continue;
+                const auto first = static_cast<std::uint32_t>(laid_out.size());
+                for (std::uint32_t t = 0; t < node.count[k]; ++t)
+                    laid_out.push_back(triangles_[node.first[k] + t]);
+                while (laid_out.size() % 4 != 0) laid_out.push_back(laid_out.back());
+                node.first[k] = first;
+            }
+        triangles_ = std::move(laid_out);
+        blocks_.assign(triangles_.size() / 4, {});
+        for (std::size_t t = 0; t < triangles_.size(); ++t)
+            blocks_[t / 4].set(t % 4, triangles_[t]);
     }
 
     /// Builds node `index` over triangles [first, first + count): find the best binned SAH split
@@ -392,7 +429,7 @@ class Bvh {
         detail::Float4 inv[3], near_origin[3], far_origin[3], t0;
         std::array<int, 3> near_face, far_face;  // rows of Node::box
         RayBoxes(const Vec3& o, const Vec3& d, double t_min, double scale) {
-            const double pad = std::ldexp(scale + max_abs(o), -18);
+            const double pad = 0x1p-18 * (scale + max_abs(o));
             for (int a = 0; a < 3; ++a) {
                 const double da = glm::value_ptr(d)[a], oa = glm::value_ptr(o)[a];
                 const bool negative = std::signbit(da);
@@ -462,6 +499,59 @@ class Bvh {
         return true;
     }
 
+    /// What the SIMD filter of the triangle test needs of a ray, in single precision: the
+    /// origin, the shear of ShearedRay, and the error bound (see candidates).
+    struct FilterRay {
+        detail::Float4 origin[3], sx, sy, bound_scale, bound_floor;
+        int kx, ky, kz;
+        FilterRay(const Vec3& o, const ShearedRay& r, double scale) : kx(r.kx), ky(r.ky), kz(r.kz) {
+            using detail::Float4;
+            for (int a = 0; a < 3; ++a)
+                origin[a] = Float4::splat(static_cast<float>(glm::value_ptr(o)[a]));
+            sx = Float4::splat(static_cast<float>(r.sx));
+            sy = Float4::splat(static_cast<float>(r.sy));
+            // R bounds every coordinate of vertices and origin. Far outside float's comfortable
+            // range the bound below could fail (overflow, subnormals): then reject nothing.
+            const double R = scale + max_abs(o);
+            const bool sane = R > 1e-15 && R < 1e15;
+            const double inf = std::numeric_limits<double>::infinity();
+            bound_scale = Float4::splat(static_cast<float>(sane ? 0x1p-18 * R : inf));
+            bound_floor = Float4::splat(static_cast<float>(0x1p-16 * R));
+        }
+    };
+
+    /// The lanes of a block that the exact test might hit: Woop's sheared edge functions U, V, W
+    /// for four triangles at once in single precision, rejecting a triangle only when one edge
+    /// function is surely negative and another surely positive, i.e. beyond the rounding error.
+    /// With u = 2^-24 and R a bound on every coordinate of vertices and origin, each sheared
+    /// coordinate (ax ... cy) is off by at most 16 u R after rounding vertices, origin, shear
+    /// and arithmetic, and its magnitude is at most 4R; so U is off by at most
+    /// 24 u R M + 512 u^2 R^2, where M is the sum of the six magnitudes. The bound used,
+    /// 64 u R (M + 2^-16 R), is more than twice that even with M taken from the rounded values.
+    /// So the filter never rejects what the double test would accept, and the answers are
+    /// exactly those of the double test alone: only its work shrinks.
+    static unsigned candidates(const TriangleBlock& b, const FilterRay& r) {
+        using detail::Float4;
+        std::array<Float4, 3> px, py;
+        for (int i = 0; i < 3; ++i) {
+            const Float4 x = Float4::load(b.v[3 * i + r.kx].data()) - r.origin[r.kx];
+            const Float4 y = Float4::load(b.v[3 * i + r.ky].data()) - r.origin[r.ky];
+            const Float4 z = Float4::load(b.v[3 * i + r.kz].data()) - r.origin[r.kz];
+            px[i] = x - r.sx * z;
+            py[i] = y - r.sy * z;
+        }
+        const Float4 U = px[2] * py[1] - py[2] * px[1];
+        const Float4 V = px[0] * py[2] - py[0] * px[2];
+        const Float4 W = px[1] * py[0] - py[1] * px[0];
+        const Float4 M =
+            vabs(px[0]) + vabs(py[0]) + vabs(px[1]) + vabs(py[1]) + vabs(px[2]) + vabs(py[2]);
+        const Float4 bound = r.bound_scale * (M + r.bound_floor);
+        const Float4 minus = Float4::splat(0.0f) - bound;
+        const int negative = less_mask(U, minus) | less_mask(V, minus) | less_mask(W, minus);
+        const int positive = less_mask(bound, U) | less_mask(bound, V) | less_mask(bound, W);
+        return static_cast<unsigned>(~(negative & positive)) & 15u;
+    }
+
     /// A subtree still to visit: an inner node (count 0) or a leaf's triangle range, with a
     /// lower bound of the distance at which the ray enters its box.
     struct Entry {
@@ -500,34 +590,48 @@ class Bvh {
         return true;
     }
 
-    /// Front-to-back traversal with an explicit stack; visit(triangle, t, u, v) returns true to
-    /// stop. If `t_far` is given, it is re-read after each hit (closest-hit queries shrink it
-    /// and drop subtrees entered beyond it).
+    /// Front-to-back traversal with an explicit stack; visit(triangle, t, u, v) is called for
+    /// hits on triangles of patches other than those in `skip`, and returns true to stop. If
+    /// `t_far` is given, it is re-read after each hit (closest-hit queries shrink it and drop
+    /// subtrees entered beyond it).
     template <class Visit>
     void traverse(const Vec3& o, const Vec3& d, double t0, double t1, Visit&& visit,
-                  const double* t_far = nullptr) const {
+                  const double* t_far = nullptr,
+                  std::array<std::uint32_t, 2> skip = {no_patch, no_patch}) const {
         if (nodes_.empty() || d == Vec3(0.0)) return;
         const ShearedRay sheared(d);
         const RayBoxes ray(o, d, t0, scale_);
+        const FilterRay filter(o, sheared, scale_);
         std::array<Entry, stack_size> stack;
         std::size_t top = 0;
         stack[top++] = {0, 0, float_below(t0)};
         while (top > 0) {
             Entry e = stack[--top];
-            const double limit = t_far ? *t_far : t1;
-            const float limit_f = float_above(limit);
-            if (e.t > limit_f || !descend(e, ray, limit_f, stack, top)) continue;
-            for (std::uint32_t k = e.first; k < e.first + e.count; ++k) {
-                double t, u, v;
-                if (hit_triangle(triangles_[k], o, sheared, t0, t_far ? *t_far : t1, t, u, v) &&
-                    visit(triangles_[k], t, u, v))
-                    return;
+            const float limit = float_above(t_far ? *t_far : t1);
+            if (e.t > limit || !descend(e, ray, limit, stack, top)) continue;
+            for (std::uint32_t first = e.first; first < e.first + e.count; first += 4) {
+                const TriangleBlock& block = blocks_[first / 4];
+                const std::uint32_t left = e.first + e.count - first;
+                unsigned mask = candidates(block, filter) & (left >= 4 ? 15u : (1u << left) - 1);
+                for (; mask != 0; mask &= mask - 1) {
+                    const int lane = std::countr_zero(mask);
+                    if (block.patch[lane] == skip[0] || block.patch[lane] == skip[1]) continue;
+                    const Triangle& tri = triangles_[first + lane];
+                    double t, u, v;
+                    if (hit_triangle(tri, o, sheared, t0, t_far ? *t_far : t1, t, u, v) &&
+                        visit(tri, t, u, v))
+                        return;
+                }
             }
         }
     }
 
+    static constexpr std::uint32_t no_patch = std::numeric_limits<std::uint32_t>::max();
+
     BvhOptions options_;
-    std::vector<Triangle> triangles_;
+    std::vector<Triangle> triangles_;    // leaf by leaf, each leaf from a multiple of 4
+    std::vector<TriangleBlock> blocks_;  // triangles_ in fours, single precision
+    std::size_t triangle_count_ = 0;
     std::vector<Node> nodes_;  // nodes_[0] is the root
     double scale_ = 0.0;       // largest coordinate magnitude of any vertex
 };
