@@ -76,14 +76,8 @@ class Bvh {
     /// hits a triangle of any patch other than a and b. Any hit ends the search.
     bool occluded(const Vec3& p, const Vec3& q, std::uint32_t a, std::uint32_t b) const {
         constexpr double margin = 1e-9;
-        bool hit = false;
-        traverse(p, q - p, margin, 1.0 - margin,
-                 [&](const Triangle&, double, double, double) {
-                     hit = true;
-                     return true;  // stop: any hit will do
-                 },
-                 nullptr, {a, b});
-        return hit;
+        auto stop = [](const Triangle&, double, double, double) { return true; };  // any hit
+        return traverse(p, q - p, margin, 1.0 - margin, stop, nullptr, {a, b}, true);
     }
 
     /// True if some triangle of a patch other than a and b might block a segment from the front
@@ -500,11 +494,13 @@ class Bvh {
     }
 
     /// What the SIMD filter of the triangle test needs of a ray, in single precision: the
-    /// origin, the shear of ShearedRay, and the error bound (see candidates).
+    /// origin, the shear of ShearedRay, the error bound, and the range of t in which every
+    /// vertex must lie for a sure hit (see candidates).
     struct FilterRay {
-        detail::Float4 origin[3], sx, sy, bound_scale, bound_floor;
+        detail::Float4 origin[3], sx, sy, sz, bound_scale, bound_floor, t_low, t_high;
         int kx, ky, kz;
-        FilterRay(const Vec3& o, const ShearedRay& r, double scale) : kx(r.kx), ky(r.ky), kz(r.kz) {
+        FilterRay(const Vec3& o, const ShearedRay& r, double scale, double t0, double t1)
+            : kx(r.kx), ky(r.ky), kz(r.kz) {
             using detail::Float4;
             for (int a = 0; a < 3; ++a)
                 origin[a] = Float4::splat(static_cast<float>(glm::value_ptr(o)[a]));
@@ -517,28 +513,42 @@ class Bvh {
             const double inf = std::numeric_limits<double>::infinity();
             bound_scale = Float4::splat(static_cast<float>(sane ? 0x1p-18 * R : inf));
             bound_floor = Float4::splat(static_cast<float>(0x1p-16 * R));
+            sz = Float4::splat(static_cast<float>(r.sz));
+            const double margin = 0x1p-20 * (R * std::abs(r.sz) + 1.0);
+            t_low = Float4::splat(static_cast<float>(sane ? t0 + margin : inf));
+            t_high = Float4::splat(static_cast<float>(t1 - margin));
         }
     };
 
-    /// The lanes of a block that the exact test might hit: Woop's sheared edge functions U, V, W
-    /// for four triangles at once in single precision, rejecting a triangle only when one edge
-    /// function is surely negative and another surely positive, i.e. beyond the rounding error.
-    /// With u = 2^-24 and R a bound on every coordinate of vertices and origin, each sheared
-    /// coordinate (ax ... cy) is off by at most 16 u R after rounding vertices, origin, shear
-    /// and arithmetic, and its magnitude is at most 4R; so U is off by at most
+    /// Lanes of a block: those the exact test might hit, and those it surely hits.
+    struct Lanes {
+        unsigned maybe, sure;
+    };
+
+    /// Which triangles of a block the exact (double) test might hit, and which it surely hits:
+    /// Woop's sheared edge functions U, V, W for four triangles at once in single precision.
+    /// A triangle is rejected only when one edge function is surely negative and another surely
+    /// positive, i.e. beyond the rounding error; it is surely hit when all three are surely of
+    /// one sign and the t of each vertex (the hit's t is their convex combination) lies surely
+    /// inside (t0, t1). With u = 2^-24 and R a bound on every coordinate of vertices and
+    /// origin, each sheared coordinate (ax ... cy) is off by at most 16 u R after rounding
+    /// vertices, origin, shear and arithmetic, and is at most 4R; so U is off by at most
     /// 24 u R M + 512 u^2 R^2, where M is the sum of the six magnitudes. The bound used,
     /// 64 u R (M + 2^-16 R), is more than twice that even with M taken from the rounded values.
-    /// So the filter never rejects what the double test would accept, and the answers are
-    /// exactly those of the double test alone: only its work shrinks.
-    static unsigned candidates(const TriangleBlock& b, const FilterRay& r) {
+    /// A vertex's t is off by at most 4 u R |sz| + 2.1 u; the margin used is 16 u (R |sz| + 1).
+    /// So the filter never contradicts the double test, and answers are exactly its answers.
+    static Lanes candidates(const TriangleBlock& b, const FilterRay& r) {
         using detail::Float4;
         std::array<Float4, 3> px, py;
+        int inside = 15;  // lanes whose vertices all lie surely inside (t0, t1)
         for (int i = 0; i < 3; ++i) {
             const Float4 x = Float4::load(b.v[3 * i + r.kx].data()) - r.origin[r.kx];
             const Float4 y = Float4::load(b.v[3 * i + r.ky].data()) - r.origin[r.ky];
             const Float4 z = Float4::load(b.v[3 * i + r.kz].data()) - r.origin[r.kz];
             px[i] = x - r.sx * z;
             py[i] = y - r.sy * z;
+            const Float4 t = z * r.sz;
+            inside &= less_mask(r.t_low, t) & less_mask(t, r.t_high);
         }
         const Float4 U = px[2] * py[1] - py[2] * px[1];
         const Float4 V = px[0] * py[2] - py[0] * px[2];
@@ -547,9 +557,14 @@ class Bvh {
             vabs(px[0]) + vabs(py[0]) + vabs(px[1]) + vabs(py[1]) + vabs(px[2]) + vabs(py[2]);
         const Float4 bound = r.bound_scale * (M + r.bound_floor);
         const Float4 minus = Float4::splat(0.0f) - bound;
-        const int negative = less_mask(U, minus) | less_mask(V, minus) | less_mask(W, minus);
-        const int positive = less_mask(bound, U) | less_mask(bound, V) | less_mask(bound, W);
-        return static_cast<unsigned>(~(negative & positive)) & 15u;
+        const int u_neg = less_mask(U, minus), v_neg = less_mask(V, minus);
+        const int w_neg = less_mask(W, minus);
+        const int u_pos = less_mask(bound, U), v_pos = less_mask(bound, V);
+        const int w_pos = less_mask(bound, W);
+        const int negative = u_neg | v_neg | w_neg, positive = u_pos | v_pos | w_pos;
+        const int one_sign = (u_neg & v_neg & w_neg) | (u_pos & v_pos & w_pos);
+        return {static_cast<unsigned>(~(negative & positive)) & 15u,
+                static_cast<unsigned>(one_sign & inside)};
     }
 
     /// A subtree still to visit: an inner node (count 0) or a leaf's triangle range, with a
@@ -593,18 +608,23 @@ class Bvh {
     /// Front-to-back traversal with an explicit stack; visit(triangle, t, u, v) is called for
     /// hits on triangles of patches other than those in `skip`, and returns true to stop. If
     /// `t_far` is given, it is re-read after each hit (closest-hit queries shrink it and drop
-    /// subtrees entered beyond it).
+    /// subtrees entered beyond it). With `any_hit`, a triangle that the filter proves hit ends
+    /// the search without the double test (nor a call of visit). Returns true if stopped.
     template <class Visit>
-    void traverse(const Vec3& o, const Vec3& d, double t0, double t1, Visit&& visit,
+    bool traverse(const Vec3& o, const Vec3& d, double t0, double t1, Visit&& visit,
                   const double* t_far = nullptr,
-                  std::array<std::uint32_t, 2> skip = {no_patch, no_patch}) const {
-        if (nodes_.empty() || d == Vec3(0.0)) return;
+                  std::array<std::uint32_t, 2> skip = {no_patch, no_patch},
+                  bool any_hit = false) const {
+        if (nodes_.empty() || d == Vec3(0.0)) return false;
         const ShearedRay sheared(d);
         const RayBoxes ray(o, d, t0, scale_);
-        const FilterRay filter(o, sheared, scale_);
+        const FilterRay filter(o, sheared, scale_, t0, t1);
         std::array<Entry, stack_size> stack;
         std::size_t top = 0;
         stack[top++] = {0, 0, float_below(t0)};
+        auto skipped = [&](const TriangleBlock& block, int lane) {
+            return block.patch[lane] == skip[0] || block.patch[lane] == skip[1];
+        };
         while (top > 0) {
             Entry e = stack[--top];
             const float limit = float_above(t_far ? *t_far : t1);
@@ -612,18 +632,26 @@ class Bvh {
             for (std::uint32_t first = e.first; first < e.first + e.count; first += 4) {
                 const TriangleBlock& block = blocks_[first / 4];
                 const std::uint32_t left = e.first + e.count - first;
-                unsigned mask = candidates(block, filter) & (left >= 4 ? 15u : (1u << left) - 1);
+                const unsigned valid = left >= 4 ? 15u : (1u << left) - 1;
+                const Lanes lanes = candidates(block, filter);
+                unsigned mask = lanes.maybe & valid;
+                if (any_hit) {
+                    for (unsigned sure = lanes.sure & valid; sure != 0; sure &= sure - 1)
+                        if (!skipped(block, std::countr_zero(sure))) return true;
+                    mask &= ~lanes.sure;
+                }
                 for (; mask != 0; mask &= mask - 1) {
                     const int lane = std::countr_zero(mask);
-                    if (block.patch[lane] == skip[0] || block.patch[lane] == skip[1]) continue;
+                    if (skipped(block, lane)) continue;
                     const Triangle& tri = triangles_[first + lane];
                     double t, u, v;
                     if (hit_triangle(tri, o, sheared, t0, t_far ? *t_far : t1, t, u, v) &&
                         visit(tri, t, u, v))
-                        return;
+                        return true;
                 }
             }
         }
+        return false;
     }
 
     static constexpr std::uint32_t no_patch = std::numeric_limits<std::uint32_t>::max();
