@@ -52,6 +52,11 @@ struct Float4 {
     friend Float4 vabs(Float4 a) {
         return {_mm_andnot_ps(_mm_set1_ps(-0.0f), a.v)};
     }
+    /// Lane-wise a <= b ? c : a.
+    friend Float4 where_at_most(Float4 a, Float4 b, Float4 c) {
+        const __m128 m = _mm_cmple_ps(a.v, b.v);
+        return {_mm_or_ps(_mm_and_ps(m, c.v), _mm_andnot_ps(m, a.v))};
+    }
     /// Bit k set where a[k] <= b[k] (clear where either is NaN).
     friend int less_equal_mask(Float4 a, Float4 b) {
         return _mm_movemask_ps(_mm_cmple_ps(a.v, b.v));
@@ -94,6 +99,12 @@ struct Float4 {
     /// Lane-wise |a| (the sign bit cleared).
     friend Float4 vabs(Float4 a) {
         return lanes(a, a, [](float x, float) { return std::fabs(x); });
+    }
+    /// Lane-wise a <= b ? c : a.
+    friend Float4 where_at_most(Float4 a, Float4 b, Float4 c) {
+        Float4 r = a;
+        for (int k = 0; k < 4; ++k) r.v[k] = a.v[k] <= b.v[k] ? c.v[k] : a.v[k];
+        return r;
     }
     /// Bit k set where a[k] <= b[k] (clear where either is NaN).
     friend int less_equal_mask(Float4 a, Float4 b) {

@@ -420,9 +420,10 @@ class Bvh {
     /// faces. Where d_a = 0 the slab distances are +-inf, or NaN for a face through the shifted
     /// origin, which vmin / vmax ignore (the ray then counts as inside that slab).
     struct RayBoxes {
-        detail::Float4 inv[3], near_origin[3], far_origin[3], t0;
+        detail::Float4 inv[3], near_origin[3], far_origin[3], t0, defer, last;
         std::array<int, 3> near_face, far_face;  // rows of Node::box
-        RayBoxes(const Vec3& o, const Vec3& d, double t_min, double scale) {
+        /// The ray o + t d from t_min; boxes entered at or before `defer_to` are ordered last.
+        RayBoxes(const Vec3& o, const Vec3& d, double t_min, double scale, float defer_to) {
             const double pad = 0x1p-18 * (scale + max_abs(o));
             for (int a = 0; a < 3; ++a) {
                 const double da = glm::value_ptr(d)[a], oa = glm::value_ptr(o)[a];
@@ -435,12 +436,14 @@ class Bvh {
                 far_face[a] = 2 * a + (negative ? 0 : 1);
             }
             t0 = detail::Float4::splat(float_below(t_min));
+            defer = detail::Float4::splat(defer_to);
+            last = detail::Float4::splat(std::numeric_limits<float>::infinity());
         }
 
         /// Slab test (Kay & Kajiya 1986) of the four child boxes of a node for t in [t0, t1]:
-        /// returns a mask of the children entered, and their entry distances in t_enter (lower
-        /// bounds of the exact ones).
-        int enter(const Node& node, float t1, float* t_enter) const {
+        /// returns a mask of the children entered, and in `order` their entry distances (lower
+        /// bounds of the exact ones), or +inf for boxes entered at or before `defer`.
+        int enter(const Node& node, float t1, float* order) const {
             using detail::Float4;
             Float4 near = t0, far = Float4::splat(t1);
             for (int a = 0; a < 3; ++a) {
@@ -449,7 +452,7 @@ class Bvh {
                 near = vmax(n * inv[a], near);  // argument order: a NaN slab is ignored
                 far = vmin(f * inv[a], far);
             }
-            near.store(t_enter);
+            where_at_most(near, defer, last).store(order);
             return less_equal_mask(near, far);
         }
     };
@@ -567,42 +570,48 @@ class Bvh {
                 static_cast<unsigned>(one_sign & inside)};
     }
 
-    /// A subtree still to visit: an inner node (count 0) or a leaf's triangle range, with a
-    /// lower bound of the distance at which the ray enters its box.
+    /// A subtree still to visit: an inner node (count 0) or a leaf's triangle range, with its
+    /// order key: a lower bound of the distance at which the ray enters its box, or +inf for a
+    /// box deferred (see RayBoxes::enter).
     struct Entry {
         std::uint32_t first, count;
         float t;
     };
 
-    /// From inner node e, walks down towards the nearest child box the ray enters until e is a
-    /// leaf, pushing the other children entered (farther first, so nearer ones are popped
-    /// first), except that boxes entered at or before `defer` come after all others. Returns
-    /// false if some inner node on the way has no child entered.
-    bool descend(Entry& e, const RayBoxes& ray, float t1, float defer,
-                 std::array<Entry, stack_size>& stack, std::size_t& top) const {
-        auto key = [defer](const Entry& c) {
-            return c.t <= defer ? std::numeric_limits<float>::infinity() : c.t;
-        };
+    /// From inner node e, walks down towards the child box of least key that the ray enters
+    /// until e is a leaf, pushing the other children entered (larger keys first, so smaller ones
+    /// are popped first). Returns false if some inner node on the way has no child entered.
+    bool descend(Entry& e, const RayBoxes& ray, float t1, std::array<Entry, stack_size>& stack,
+                 std::size_t& top) const {
         while (e.count == 0) {
             const Node& node = nodes_[e.first];
-            alignas(16) std::array<float, 4> t;
-            unsigned mask = static_cast<unsigned>(ray.enter(node, t1, t.data()));
+            alignas(16) std::array<float, 4> key;
+            unsigned mask = static_cast<unsigned>(ray.enter(node, t1, key.data()));
             if (mask == 0) return false;
-            int k = std::countr_zero(mask);
+            auto child = [&](int k) { return Entry{node.first[k], node.count[k], key[k]}; };
+            const int k0 = std::countr_zero(mask);
             mask &= mask - 1;
             if (mask == 0) {  // one child entered: no stack traffic
-                e = {node.first[k], node.count[k], t[k]};
+                e = child(k0);
                 continue;
             }
-            const std::size_t base = top;
-            for (;;) {  // push every child entered, keeping [base, top) sorted far to near
-                const Entry c{node.first[k], node.count[k], t[k]};
+            const int k1 = std::countr_zero(mask);
+            mask &= mask - 1;
+            const bool swap = key[k1] < key[k0];
+            const Entry near = child(swap ? k1 : k0), far = child(swap ? k0 : k1);
+            if (mask == 0) {  // two: the common case, without a sort
+                stack[top++] = far;
+                e = near;
+                continue;
+            }
+            const std::size_t base = top;  // three or four: keep [base, top) sorted
+            stack[top++] = far;
+            stack[top++] = near;
+            for (; mask != 0; mask &= mask - 1) {
+                const Entry c = child(std::countr_zero(mask));
                 std::size_t j = top++;
-                for (; j > base && key(stack[j - 1]) < key(c); --j) stack[j] = stack[j - 1];
+                for (; j > base && stack[j - 1].t < c.t; --j) stack[j] = stack[j - 1];
                 stack[j] = c;
-                if (mask == 0) break;
-                k = std::countr_zero(mask);
-                mask &= mask - 1;
             }
             e = stack[--top];
         }
@@ -621,22 +630,24 @@ class Bvh {
                   bool any_hit = false) const {
         if (nodes_.empty() || d == Vec3(0.0)) return false;
         const ShearedRay sheared(d);
-        const RayBoxes ray(o, d, t0, scale_);
+        // An occlusion ray starts on a surface. The boxes around its origin hold that surface and
+        // its neighbours, which the ray leaves rather than crosses: try them last. (In bench_bvh
+        // this visits a quarter fewer leaves.) A closest hit needs the plain near-to-far order.
+        // (NaN defers nothing: no comparison with it holds.)
+        const float defer = any_hit ? float_below(t0) : std::numeric_limits<float>::quiet_NaN();
+        const RayBoxes ray(o, d, t0, scale_, defer);
         const FilterRay filter(o, sheared, scale_, t0, t1);
         std::array<Entry, stack_size> stack;
         std::size_t top = 0;
         stack[top++] = {0, 0, float_below(t0)};
-        // An occlusion ray starts on a surface. The boxes around its origin hold that surface and
-        // its neighbours, which the ray leaves rather than crosses: try them last. (In bench_bvh
-        // this visits a quarter fewer leaves.) A closest hit needs the plain near-to-far order.
-        const float defer = any_hit ? float_below(t0) : -std::numeric_limits<float>::infinity();
         auto skipped = [&](const TriangleBlock& block, int lane) {
             return block.patch[lane] == skip[0] || block.patch[lane] == skip[1];
         };
         while (top > 0) {
             Entry e = stack[--top];
             const float limit = float_above(t_far ? *t_far : t1);
-            if (e.t > limit || !descend(e, ray, limit, defer, stack, top)) continue;
+            // Keys are distances unless deferring, and only closest hits (t_far) prune by distance.
+            if ((t_far && e.t > limit) || !descend(e, ray, limit, stack, top)) continue;
             for (std::uint32_t first = e.first; first < e.first + e.count; first += 4) {
                 const TriangleBlock& block = blocks_[first / 4];
                 const std::uint32_t left = e.first + e.count - first;
