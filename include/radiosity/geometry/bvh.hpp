@@ -589,24 +589,20 @@ class Bvh {
             unsigned mask = static_cast<unsigned>(ray.enter(node, t1, key.data()));
             if (mask == 0) return false;
             auto child = [&](int k) { return Entry{node.first[k], node.count[k], key[k]}; };
+            // One or two children entered, without branches on which (they would mispredict):
+            // with one, k1 = k0 and the store above the stack top is dropped.
             const int k0 = std::countr_zero(mask);
             mask &= mask - 1;
-            if (mask == 0) {  // one child entered: no stack traffic
-                e = child(k0);
-                continue;
-            }
-            const int k1 = std::countr_zero(mask);
+            const int k1 = mask != 0 ? std::countr_zero(mask) : k0;
+            const bool two = mask != 0;
             mask &= mask - 1;
             const bool swap = key[k1] < key[k0];
-            const Entry near = child(swap ? k1 : k0), far = child(swap ? k0 : k1);
-            if (mask == 0) {  // two: the common case, without a sort
-                stack[top++] = far;
-                e = near;
-                continue;
-            }
-            const std::size_t base = top;  // three or four: keep [base, top) sorted
-            stack[top++] = far;
-            stack[top++] = near;
+            stack[top] = child(swap ? k0 : k1);
+            top += two ? 1 : 0;
+            e = child(swap ? k1 : k0);
+            if (mask == 0) continue;
+            const std::size_t base = top - 1;  // three or four: keep [base, top) sorted
+            stack[top++] = e;
             for (; mask != 0; mask &= mask - 1) {
                 const Entry c = child(std::countr_zero(mask));
                 std::size_t j = top++;
