@@ -52,8 +52,12 @@ struct Hit {
 /// A four-wide BVH over triangles, each tagged with the patch it belongs to: a binary binned-SAH
 /// tree (Wald 2007) with every node's grandchildren pulled up until it has four children
 /// (Dammertz, Hanika & Keller 2008: "Shallow bounding volume hierarchies"), so one SIMD slab
-/// test handles four boxes; the triangle test is watertight (Woop et al. 2013), so rays never
-/// slip through shared edges. Build: O(n log n) time, O(n) memory. Queries: O(log n) expected.
+/// test handles four single-precision boxes. Leaves hold up to four triangles (the default
+/// max_leaf_size), tested at once in single precision by a filter whose error bound is proven,
+/// so that only the triangles it cannot decide go to the exact test: the watertight test (Woop
+/// et al. 2013) in double precision, through which rays never slip at shared edges. Answers are
+/// exactly those of that double test. Build: O(n log n) time, O(n) memory. Queries: O(log n)
+/// expected.
 class Bvh {
   public:
     Bvh() = default;
