@@ -401,8 +401,10 @@ class Bvh {
         return best;
     }
 
+    /// The largest |coordinate|, or infinity if one is not finite (NaN would slip through max).
     static double max_abs(const Vec3& v) {
-        return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+        const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+        return std::isfinite(v.x + v.y + v.z) ? m : std::numeric_limits<double>::infinity();
     }
     /// Smallest float >= x (x itself if it is a float): a bound that is never too tight.
     static float float_above(double x) {
@@ -514,9 +516,11 @@ class Bvh {
             sx = Float4::splat(static_cast<float>(r.sx));
             sy = Float4::splat(static_cast<float>(r.sy));
             // R bounds every coordinate of vertices and origin. Far outside float's comfortable
-            // range the bound below could fail (overflow, subnormals): then reject nothing.
+            // range the bound below could fail (overflow, subnormals, NaN): then reject nothing
+            // and prove nothing. Within it, every value in candidates is finite.
             const double R = scale + max_abs(o);
-            const bool sane = R > 1e-15 && R < 1e15;
+            const bool sane =
+                R > 1e-15 && R < 1e15 && std::abs(r.sz) < 1e30 && std::isfinite(r.sx + r.sy);
             const double inf = std::numeric_limits<double>::infinity();
             bound_scale = Float4::splat(static_cast<float>(sane ? 0x1p-18 * R : inf));
             bound_floor = Float4::splat(static_cast<float>(0x1p-16 * R));
@@ -546,16 +550,14 @@ class Bvh {
     /// So the filter never contradicts the double test, and answers are exactly its answers.
     static Lanes candidates(const TriangleBlock& b, const FilterRay& r) {
         using detail::Float4;
-        std::array<Float4, 3> px, py;
-        int inside = 15;  // lanes whose vertices all lie surely inside (t0, t1)
+        std::array<Float4, 3> px, py, t;
         for (int i = 0; i < 3; ++i) {
             const Float4 x = Float4::load(b.v[3 * i + r.kx].data()) - r.origin[r.kx];
             const Float4 y = Float4::load(b.v[3 * i + r.ky].data()) - r.origin[r.ky];
             const Float4 z = Float4::load(b.v[3 * i + r.kz].data()) - r.origin[r.kz];
             px[i] = x - r.sx * z;
             py[i] = y - r.sy * z;
-            const Float4 t = z * r.sz;
-            inside &= less_mask(r.t_low, t) & less_mask(t, r.t_high);
+            t[i] = z * r.sz;
         }
         const Float4 U = px[2] * py[1] - py[2] * px[1];
         const Float4 V = px[0] * py[2] - py[0] * px[2];
@@ -564,14 +566,16 @@ class Bvh {
             vabs(px[0]) + vabs(py[0]) + vabs(px[1]) + vabs(py[1]) + vabs(px[2]) + vabs(py[2]);
         const Float4 bound = r.bound_scale * (M + r.bound_floor);
         const Float4 minus = Float4::splat(0.0f) - bound;
-        const int u_neg = less_mask(U, minus), v_neg = less_mask(V, minus);
-        const int w_neg = less_mask(W, minus);
-        const int u_pos = less_mask(bound, U), v_pos = less_mask(bound, V);
-        const int w_pos = less_mask(bound, W);
-        const int negative = u_neg | v_neg | w_neg, positive = u_pos | v_pos | w_pos;
-        const int one_sign = (u_neg & v_neg & w_neg) | (u_pos & v_pos & w_pos);
-        return {static_cast<unsigned>(~(negative & positive)) & 15u,
-                static_cast<unsigned>(one_sign & inside)};
+        // Only the smallest and largest of U, V, W matter (and of the vertices' t). No NaN can
+        // arise while the filter is on (see FilterRay), so min / max drop none; while it is off,
+        // the bound is +inf or NaN and every lane is a candidate, none sure.
+        const Float4 low = vmin(vmin(U, V), W), high = vmax(vmax(U, V), W);
+        const int some_negative = less_mask(low, minus), some_positive = less_mask(bound, high);
+        const int all_one_sign = less_mask(bound, low) | less_mask(high, minus);
+        const int inside = less_mask(r.t_low, vmin(vmin(t[0], t[1]), t[2])) &
+                           less_mask(vmax(vmax(t[0], t[1]), t[2]), r.t_high);
+        return {static_cast<unsigned>(~(some_negative & some_positive)) & 15u,
+                static_cast<unsigned>(all_one_sign & inside)};
     }
 
     /// A subtree still to visit: an inner node (count 0) or a leaf's triangle range, with its
