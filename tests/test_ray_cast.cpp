@@ -98,6 +98,70 @@ TEST_CASE("bvh answers exactly as testing every triangle, on random rays in a cl
     CHECK(blocked > 100);  // the scene really is cluttered
 }
 
+namespace {
+
+/// The reference for the BVH's single-precision filter: Woop et al.'s watertight test in double
+/// precision, written out again, on every fan triangle of every patch but a and b.
+bool blocked_by_any_triangle(const PatchTable& t, const Vec3& p, const Vec3& q, std::uint32_t a,
+                             std::uint32_t b) {
+    const Vec3 dir = q - p, m = glm::abs(dir);
+    const double* d = glm::value_ptr(dir);
+    const int kz = m.x > m.y ? (m.x > m.z ? 0 : 2) : (m.y > m.z ? 1 : 2);
+    int kx = (kz + 1) % 3, ky = (kx + 1) % 3;
+    if (d[kz] < 0.0) std::swap(kx, ky);
+    const double sx = d[kx] / d[kz], sy = d[ky] / d[kz], sz = 1.0 / d[kz];
+    for (std::uint32_t i = 0; i < t.size(); ++i) {
+        if (i == a || i == b) continue;
+        const auto poly = t.polygon(i);
+        for (std::size_t k = 1; k + 1 < poly.size(); ++k) {
+            const Vec3 dA = poly[0] - p, dB = poly[k] - p, dC = poly[k + 1] - p;
+            const double *A = glm::value_ptr(dA), *B = glm::value_ptr(dB), *C = glm::value_ptr(dC);
+            const double ax = A[kx] - sx * A[kz], ay = A[ky] - sy * A[kz];
+            const double bx = B[kx] - sx * B[kz], by = B[ky] - sy * B[kz];
+            const double cx = C[kx] - sx * C[kz], cy = C[ky] - sy * C[kz];
+            const double U = cx * by - cy * bx, V = ax * cy - ay * cx, W = bx * ay - by * ax;
+            if ((U < 0.0 || V < 0.0 || W < 0.0) && (U > 0.0 || V > 0.0 || W > 0.0)) continue;
+            const double det = U + V + W;
+            if (det == 0.0) continue;
+            const double hit = sz * (U * A[kz] + V * B[kz] + W * C[kz]) / det;
+            if (hit > 1e-9 && hit < 1.0 - 1e-9) return true;
+        }
+    }
+    return false;
+}
+
+}  // namespace
+
+TEST_CASE("bvh occlusion is exactly the double-precision watertight test of every triangle") {
+    // Random segments, and segments between centroids and vertices of patches that share planes
+    // and edges (where single-precision shortcuts would go wrong first).
+    PatchTable t;
+    add_box(t, Vec3(0.0), Vec3(4.0), 3, true);
+    for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+            add_box(t, Vec3(0.3 + a * 1.3, 0.0, 0.3 + b * 1.3),
+                    Vec3(1.1 + a * 1.3, 0.5 + 0.4 * a, 1.1 + b * 1.3), 2, false);
+    const Bvh bvh(t);
+    Rng rng(11);
+    std::vector<Vec3> xs, ys;
+    int disagree = 0, blocked = 0;
+    for (int k = 0; k < 3000; ++k) {
+        const auto a = static_cast<std::uint32_t>(rng.uniform() * double(t.size()));
+        const auto b = static_cast<std::uint32_t>(rng.uniform() * double(t.size()));
+        if (a == b) continue;
+        jittered_pairs(t.polygon(a), t.polygon(b), 1, rng, xs, ys);
+        const std::array<std::array<Vec3, 2>, 3> segments{
+            {{xs[0], ys[0]}, {t.centroid(a), t.centroid(b)}, {t.polygon(a)[0], t.polygon(b)[1]}}};
+        for (const auto& [p, q] : segments) {
+            const bool hidden = bvh.occluded(p, q, a, b);
+            blocked += hidden;
+            disagree += hidden != blocked_by_any_triangle(t, p, q, a, b);
+        }
+    }
+    CHECK(disagree == 0);
+    CHECK(blocked > 1000);
+}
+
 TEST_CASE("bvh is watertight: rays through shared edges and vertices never slip through") {
     // A fan of triangles around the origin; rays aimed exactly at the shared edges and centre.
     PatchTable t;

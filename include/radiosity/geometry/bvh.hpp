@@ -1,9 +1,12 @@
 #pragma once
 /// @file bvh.hpp  A bounding volume hierarchy over the scene's triangles for visibility rays:
-/// binned surface-area-heuristic build (Wald 2007), a watertight ray-triangle test (Woop,
-/// Benthin & Wald 2013), any-hit (occlusion) and closest-hit queries. It models Visibility.
+/// binned surface-area-heuristic build (Wald 2007) collapsed into a four-wide tree whose four
+/// child boxes are tested at once (Dammertz et al. 2008; Wald et al. 2014, Embree), a
+/// watertight ray-triangle test (Woop, Benthin & Wald 2013), any-hit (occlusion) and
+/// closest-hit queries. It models Visibility.
 
 #include <radiosity/concepts.hpp>
+#include <radiosity/detail/float4.hpp>
 #include <radiosity/error.hpp>
 #include <radiosity/geometry/vec.hpp>
 
@@ -12,6 +15,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -45,9 +49,15 @@ struct Hit {
     double u = 0.0, v = 0.0;  ///< barycentrics of vertices 1 and 2 of the triangle
 };
 
-/// A binary BVH over triangles, each tagged with the patch it belongs to (Wald 2007: binned SAH;
-/// Woop et al. 2013: watertight triangle test, so rays never slip through shared edges).
-/// Build: O(n log n) time, O(n) memory. Queries: O(log n) expected.
+/// A four-wide BVH over triangles, each tagged with the patch it belongs to: a binary binned-SAH
+/// tree (Wald 2007) with every node's grandchildren pulled up until it has four children
+/// (Dammertz, Hanika & Keller 2008: "Shallow bounding volume hierarchies"), so one SIMD slab
+/// test handles four single-precision boxes. Leaves hold up to four triangles (the default
+/// max_leaf_size), tested at once in single precision by a filter whose error bound is proven,
+/// so that only the triangles it cannot decide go to the exact test: the watertight test (Woop
+/// et al. 2013) in double precision, through which rays never slip at shared edges. Answers are
+/// exactly those of that double test. Build: O(n log n) time, O(n) memory. Queries: O(log n)
+/// expected.
 class Bvh {
   public:
     Bvh() = default;
@@ -63,20 +73,15 @@ class Bvh {
         build();
     }
 
-    std::size_t triangle_count() const { return triangles_.size(); }  ///< triangles held
-    std::size_t node_count() const { return nodes_.size(); }          ///< nodes of the tree
+    std::size_t triangle_count() const { return triangle_count_; }  ///< triangles held
+    std::size_t node_count() const { return nodes_.size(); }        ///< four-wide nodes
 
     /// Visibility: true if the open segment p -> q (endpoints excluded by a relative margin)
     /// hits a triangle of any patch other than a and b. Any hit ends the search.
     bool occluded(const Vec3& p, const Vec3& q, std::uint32_t a, std::uint32_t b) const {
         constexpr double margin = 1e-9;
-        bool hit = false;
-        traverse(p, q - p, margin, 1.0 - margin, [&](const Triangle& tri, double, double, double) {
-            if (tri.patch == a || tri.patch == b) return false;
-            hit = true;
-            return true;  // stop: any hit will do
-        });
-        return hit;
+        auto stop = [](const Triangle&, double, double, double) { return true; };  // any hit
+        return traverse(p, q - p, margin, 1.0 - margin, stop, nullptr, {a, b}, true);
     }
 
     /// True if some triangle of a patch other than a and b might block a segment from the front
@@ -98,27 +103,28 @@ class Bvh {
                 if (glm::dot(v - plane[0], plane[1]) > eps) return false;
             return true;
         };
-        std::array<std::uint32_t, 128> stack;
-        std::size_t top = 0;
-        stack[top++] = 0;
-        while (top > 0) {
-            const std::uint32_t index = stack[--top];
-            const Node& node = nodes_[index];
-            if (!overlaps(Vec3(node.box.lo[0], node.box.lo[1], node.box.lo[2]),
-                          Vec3(node.box.hi[0], node.box.hi[1], node.box.hi[2])))
-                continue;
-            if (node.count == 0) {
-                stack[top++] = index + 1;
-                stack[top++] = node.first;
-                continue;
-            }
-            for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+        auto blocks = [&](std::uint32_t first, std::uint32_t count) {
+            for (std::uint32_t k = first; k < first + count; ++k) {
                 const Triangle& t = triangles_[k];
                 if (t.patch == a || t.patch == b) continue;
                 if (!overlaps(glm::min(glm::min(t.v[0], t.v[1]), t.v[2]),
                               glm::max(glm::max(t.v[0], t.v[1]), t.v[2])))
                     continue;
                 if (!behind(t, plane_a) && !behind(t, plane_b)) return true;
+            }
+            return false;
+        };
+        std::array<std::uint32_t, stack_size> stack;
+        std::size_t top = 0;
+        stack[top++] = 0;
+        while (top > 0) {
+            const Node& node = nodes_[stack[--top]];
+            for (int k = 0; k < 4; ++k) {
+                if (!overlaps(node.corner(k, 0), node.corner(k, 1))) continue;
+                if (node.count[k] == 0)
+                    stack[top++] = node.first[k];
+                else if (blocks(node.first[k], node.count[k]))
+                    return true;
             }
         }
         return false;
@@ -143,6 +149,10 @@ class Bvh {
     }
 
   private:
+    // Deep enough for any tree: the build stops splitting at depth 64, and each four-wide node
+    // on the path pushes at most three siblings.
+    static constexpr std::size_t stack_size = 3 * 64 + 4;
+
     struct Triangle {
         std::array<Vec3, 3> v;
         std::uint32_t patch;
@@ -162,25 +172,53 @@ class Bvh {
             return d.x < 0.0 ? 0.0 : d.x * d.y + d.y * d.z + d.z * d.x;
         }
     };
-    /// A box in single precision, rounded outwards so it always contains the double box: half
-    /// the memory traffic of doubles during traversal, and never a missed triangle.
-    struct FloatBox {
-        std::array<float, 3> lo{}, hi{};
-        FloatBox() = default;
-        explicit FloatBox(const Box& b) {
+    /// A node of the binary build tree: its box; a leaf's triangle range, or for an inner node
+    /// the index of its second child (the first follows its parent).
+    struct BuildNode {
+        Box box;
+        std::uint32_t first = 0;
+        std::uint32_t count = 0;  // 0 for an inner node
+    };
+    /// A four-wide node, laid out for the SIMD slab test: box[2a][k] and box[2a + 1][k] are the
+    /// low and high faces of child k along axis a, in single precision rounded outwards (the
+    /// child's double box always lies inside). Child k is a leaf with triangles [first, first +
+    /// count) if count > 0, else the inner node nodes_[first]. An unused slot has an empty
+    /// box (low +inf, high -inf) that no ray enters and no box overlaps. 128 bytes.
+    struct alignas(64) Node {
+        std::array<std::array<float, 4>, 6> box;
+        std::array<std::uint32_t, 4> first{}, count{};
+        Node() {
             constexpr float inf = std::numeric_limits<float>::infinity();
             for (int a = 0; a < 3; ++a) {
-                lo[a] = std::nextafter(static_cast<float>(b.lo[a]), -inf);
-                hi[a] = std::nextafter(static_cast<float>(b.hi[a]), inf);
+                box[2 * a].fill(inf);
+                box[2 * a + 1].fill(-inf);
             }
         }
+        void set_box(int k, const Box& b) {
+            constexpr float inf = std::numeric_limits<float>::infinity();
+            for (int a = 0; a < 3; ++a) {
+                box[2 * a][k] = std::nextafter(static_cast<float>(glm::value_ptr(b.lo)[a]), -inf);
+                box[2 * a + 1][k] =
+                    std::nextafter(static_cast<float>(glm::value_ptr(b.hi)[a]), inf);
+            }
+        }
+        /// Low (side 0) or high (side 1) corner of child k's box.
+        Vec3 corner(int k, int side) const {
+            return Vec3(box[side][k], box[2 + side][k], box[4 + side][k]);
+        }
     };
-    /// A node: its box; for a leaf, its triangle range; for an inner node, its second child
-    /// (the first child always follows its parent in the array).
-    struct Node {
-        FloatBox box;
-        std::uint32_t first = 0;  // leaf: first triangle; inner: index of the second child
-        std::uint32_t count = 0;  // leaf: triangle count; 0 for an inner node
+
+    /// Four consecutive triangles in single precision, lane by lane (v[3 * vertex + axis][lane])
+    /// with their patches: what the SIMD filter of the triangle test reads. 160 bytes.
+    struct alignas(16) TriangleBlock {
+        std::array<std::array<float, 4>, 9> v{};
+        std::array<std::uint32_t, 4> patch{};
+        void set(std::size_t lane, const Triangle& t) {
+            for (int i = 0; i < 3; ++i)
+                for (int a = 0; a < 3; ++a)
+                    v[3 * i + a][lane] = static_cast<float>(glm::value_ptr(t.v[i])[a]);
+            patch[lane] = t.patch;
+        }
     };
 
     Box triangle_box(std::size_t t) const {
@@ -193,32 +231,71 @@ class Bvh {
         return (v[0] + v[1] + v[2]) / 3.0;
     }
 
+    /// Builds the binary SAH tree, then collapses it into four-wide nodes.
     void build() {
         nodes_.clear();
+        scale_ = 0.0;
+        for (const Triangle& t : triangles_)
+            for (const Vec3& v : t.v) scale_ = std::max(scale_, max_abs(v));
         if (triangles_.empty()) return;
-        nodes_.reserve(2 * triangles_.size());
-        nodes_.push_back({});
-        build_node(0, 0, static_cast<std::uint32_t>(triangles_.size()));
+        std::vector<BuildNode> binary;
+        binary.reserve(2 * triangles_.size());
+        binary.push_back({});
+        build_node(binary, 0, 0, static_cast<std::uint32_t>(triangles_.size()));
+        nodes_.reserve(binary.size() / 2 + 1);
+        if (binary[0].count > 0) {  // a single leaf: one node with one used slot
+            nodes_.emplace_back();
+            nodes_[0].set_box(0, binary[0].box);
+            nodes_[0].first[0] = binary[0].first;
+            nodes_[0].count[0] = binary[0].count;
+        } else {
+            collapse(binary, 0);
+        }
+        make_blocks();
+    }
+
+    /// Lays every leaf's triangles out from a multiple of four (padding with copies that no
+    /// query reads, as the leaf's count excludes them), so that triangle k is lane k % 4 of
+    /// block k / 4, and fills the single-precision blocks.
+    void make_blocks() {
+        triangle_count_ = triangles_.size();
+        std::vector<Triangle> laid_out;
+        laid_out.reserve(triangles_.size() + triangles_.size() / 2 + 4);
+        for (Node& node : nodes_)
+            for (int k = 0; k < 4; ++k) {
+                if (node.count[k] == 0) continue;
+                const auto first = static_cast<std::uint32_t>(laid_out.size());
+                for (std::uint32_t t = 0; t < node.count[k]; ++t)
+                    laid_out.push_back(triangles_[node.first[k] + t]);
+                while (laid_out.size() % 4 != 0) laid_out.push_back(laid_out.back());
+                node.first[k] = first;
+            }
+        triangles_ = std::move(laid_out);
+        blocks_.assign(triangles_.size() / 4, {});
+        for (std::size_t t = 0; t < triangles_.size(); ++t)
+            blocks_[t / 4].set(t % 4, triangles_[t]);
     }
 
     /// Builds node `index` over triangles [first, first + count): find the best binned SAH split
     /// (cost = traversal + sum over children of area ratio x triangles), or make a leaf when no
     /// split beats testing every triangle. Recursion depth is O(log n) for sane scenes and at
     /// most 64 levels, after which a node becomes a leaf.
-    void build_node(std::size_t index, std::uint32_t first, std::uint32_t count, int depth = 0) {
+    void build_node(std::vector<BuildNode>& nodes, std::size_t index, std::uint32_t first,
+                    std::uint32_t count, int depth = 0) {
         Box box, centres;
         for (std::uint32_t k = first; k < first + count; ++k) {
             box.grow(triangle_box(k));
             centres.grow(centroid(k));
         }
-        nodes_[index].box = FloatBox(box);
+        nodes[index].box = box;
+        nodes[index].first = first;
+        nodes[index].count = count;  // a leaf unless split below
         const Split s = best_split(first, count, centres);
         if (count <= static_cast<std::uint32_t>(options_.max_leaf_size) || s.axis < 0 ||
             depth >= 64)
-            return make_leaf(index, first, count);
+            return;
         // SAH: splitting must beat testing every triangle here (the leaf cost is count).
-        if (!(s.cost < static_cast<double>(count)) && count <= 16)
-            return make_leaf(index, first, count);
+        if (!(s.cost < static_cast<double>(count)) && count <= 16) return;
         const auto mid = static_cast<std::uint32_t>(
             std::partition(triangles_.begin() + first, triangles_.begin() + first + count,
                            [&](const Triangle& t) {
@@ -226,17 +303,48 @@ class Bvh {
                                       s.bin;
                            }) -
             triangles_.begin());
-        if (mid == first || mid == first + count) return make_leaf(index, first, count);
-        nodes_.push_back({});  // first child right after its parent
-        build_node(index + 1, first, mid - first, depth + 1);
-        nodes_[index].first = static_cast<std::uint32_t>(nodes_.size());
-        nodes_.push_back({});
-        build_node(nodes_[index].first, mid, first + count - mid, depth + 1);
+        if (mid == first || mid == first + count) return;
+        nodes[index].count = 0;
+        nodes.push_back({});  // first child right after its parent
+        build_node(nodes, index + 1, first, mid - first, depth + 1);
+        nodes[index].first = static_cast<std::uint32_t>(nodes.size());
+        nodes.push_back({});
+        build_node(nodes, nodes[index].first, mid, first + count - mid, depth + 1);
     }
 
-    void make_leaf(std::size_t index, std::uint32_t first, std::uint32_t count) {
-        nodes_[index].first = first;
-        nodes_[index].count = count;
+    /// Makes a four-wide node from inner binary node `index`: start from its two children and
+    /// keep replacing the inner child of largest surface area by its two children until there
+    /// are four (the largest box is the likeliest to be entered, so opening it saves the most
+    /// box tests). Returns the new node's index; depth never grows, so it stays within 64.
+    std::uint32_t collapse(const std::vector<BuildNode>& binary, std::uint32_t index) {
+        std::array<std::uint32_t, 4> child{index + 1, binary[index].first, 0, 0};
+        std::size_t n = 2;
+        while (n < 4) {
+            std::size_t widest = n;
+            double area = -1.0;
+            for (std::size_t k = 0; k < n; ++k) {
+                const BuildNode& c = binary[child[k]];
+                if (c.count == 0 && c.box.half_area() > area) {
+                    widest = k;
+                    area = c.box.half_area();
+                }
+            }
+            if (widest == n) break;  // only leaves left
+            const std::uint32_t open = child[widest];
+            child[widest] = open + 1;
+            child[n++] = binary[open].first;
+        }
+        const auto self = static_cast<std::uint32_t>(nodes_.size());
+        nodes_.emplace_back();
+        for (std::size_t k = 0; k < n; ++k) {
+            const BuildNode& c = binary[child[k]];
+            // Recursion may reallocate nodes_: write through the index, not a reference.
+            const std::uint32_t first = c.count > 0 ? c.first : collapse(binary, child[k]);
+            nodes_[self].set_box(static_cast<int>(k), c.box);
+            nodes_[self].first[k] = first;
+            nodes_[self].count[k] = c.count;
+        }
+        return self;
     }
 
     struct Split {
@@ -293,34 +401,67 @@ class Bvh {
         return best;
     }
 
-    /// What the slab test needs of a ray, computed once per ray.
-    struct RaySlabs {
-        std::array<double, 3> inv, o_inv;
-        std::array<bool, 3> negative;
-        RaySlabs(const Vec3& o, const Vec3& d) {
+    /// The largest |coordinate|, or infinity if one is not finite (NaN would slip through max).
+    static double max_abs(const Vec3& v) {
+        const double m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+        return std::isfinite(v.x + v.y + v.z) ? m : std::numeric_limits<double>::infinity();
+    }
+    /// Smallest float >= x (x itself if it is a float): a bound that is never too tight.
+    static float float_above(double x) {
+        const auto f = static_cast<float>(x);
+        return f < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+    }
+    /// Largest float <= x.
+    static float float_below(double x) {
+        const auto f = static_cast<float>(x);
+        return f > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+    }
+
+    /// What the four-box slab test needs of a ray, in single precision, computed once per ray.
+    /// The ray is tested against each box grown by a margin `pad` on every side, where pad is
+    /// 2^-18 (scene scale + |origin|): far more than the rounding of the origin, of 1 / d and of
+    /// the slab arithmetic (a few 2^-24 of the same magnitudes), so a box that the exact ray
+    /// enters is never missed (compare Ize 2013, "Robust BVH ray traversal"). The padding costs
+    /// nothing: it is folded into two shifted origins, one for the near and one for the far
+    /// faces. Where d_a = 0 the slab distances are +-inf, or NaN for a face through the shifted
+    /// origin, which vmin / vmax ignore (the ray then counts as inside that slab).
+    struct RayBoxes {
+        detail::Float4 inv[3], near_origin[3], far_origin[3], t0, defer, last;
+        std::array<int, 3> near_face, far_face;  // rows of Node::box
+        /// The ray o + t d from t_min; boxes entered at or before `defer_to` are ordered last.
+        RayBoxes(const Vec3& o, const Vec3& d, double t_min, double scale, float defer_to) {
+            const double pad = 0x1p-18 * (scale + max_abs(o));
             for (int a = 0; a < 3; ++a) {
-                const double da = glm::value_ptr(d)[a];
-                inv[a] = da != 0.0 ? 1.0 / da : std::copysign(1e200, da);
-                o_inv[a] = glm::value_ptr(o)[a] * inv[a];
-                negative[a] = inv[a] < 0.0;
+                const double da = glm::value_ptr(d)[a], oa = glm::value_ptr(o)[a];
+                const bool negative = std::signbit(da);
+                const double shift = negative ? -pad : pad;
+                inv[a] = detail::Float4::splat(static_cast<float>(1.0 / da));
+                near_origin[a] = detail::Float4::splat(static_cast<float>(oa + shift));
+                far_origin[a] = detail::Float4::splat(static_cast<float>(oa - shift));
+                near_face[a] = 2 * a + (negative ? 1 : 0);
+                far_face[a] = 2 * a + (negative ? 0 : 1);
             }
+            t0 = detail::Float4::splat(float_below(t_min));
+            defer = detail::Float4::splat(defer_to);
+            last = detail::Float4::splat(std::numeric_limits<float>::infinity());
+        }
+
+        /// Slab test (Kay & Kajiya 1986) of the four child boxes of a node for t in [t0, t1]:
+        /// returns a mask of the children entered, and in `order` their entry distances (lower
+        /// bounds of the exact ones), or +inf for boxes entered at or before `defer`.
+        int enter(const Node& node, float t1, float* order) const {
+            using detail::Float4;
+            Float4 near = t0, far = Float4::splat(t1);
+            for (int a = 0; a < 3; ++a) {
+                const Float4 n = (Float4::load(node.box[near_face[a]].data()) - near_origin[a]);
+                const Float4 f = (Float4::load(node.box[far_face[a]].data()) - far_origin[a]);
+                near = vmax(n * inv[a], near);  // argument order: a NaN slab is ignored
+                far = vmin(f * inv[a], far);
+            }
+            where_at_most(near, defer, last).store(order);
+            return less_equal_mask(near, far);
         }
     };
-
-    /// Slab test of a ray against a box (Kay & Kajiya 1986) with precomputed reciprocal
-    /// direction; returns the entry distance, or infinity for a miss. Components are read
-    /// through plain arrays: glm's operator[] branches on the index.
-    static double enter(const FloatBox& b, const RaySlabs& r, double t0, double t1) {
-        for (int a = 0; a < 3; ++a) {
-            // The near and far faces of the slab are known from the direction's sign, so no
-            // swap: t = face * (1 / d) - o / d.
-            const double near = (r.negative[a] ? b.hi[a] : b.lo[a]) * r.inv[a] - r.o_inv[a];
-            const double far = (r.negative[a] ? b.lo[a] : b.hi[a]) * r.inv[a] - r.o_inv[a];
-            t0 = near > t0 ? near : t0;
-            t1 = far < t1 ? far : t1;
-        }
-        return t0 <= t1 * (1.0 + 1e-12) ? t0 : std::numeric_limits<double>::infinity();
-    }
 
     /// The watertight ray-triangle test (Woop, Benthin & Wald 2013): shear the triangle into the
     /// ray's frame, where the ray is the z axis, and test the signs of the 2-D edge functions.
@@ -361,57 +502,189 @@ class Bvh {
         return true;
     }
 
-    /// Front-to-back traversal with an explicit stack; visit(triangle, t, u, v) returns true to
-    /// stop. If `t_far` is given, it is re-read after each hit (closest-hit queries shrink it).
-    template <class Visit>
-    void traverse(const Vec3& o, const Vec3& d, double t0, double t1, Visit&& visit,
-                  const double* t_far = nullptr) const {
-        if (nodes_.empty() || d == Vec3(0.0)) return;
-        const ShearedRay sheared(d);
-        const RaySlabs slabs(o, d);
-        constexpr double miss = std::numeric_limits<double>::infinity();
-        // Each stack entry is a node whose box the ray enters, with its entry distance (a
-        // closest-hit query drops it once a nearer hit is known); boxes are tested once, at
-        // the parent, so both children are compared and the nearer is visited first.
-        struct Entry {
-            std::uint32_t node;
-            double t;
-        };
-        std::array<Entry, 128> stack;
-        std::size_t top = 0;
-        const double root = enter(nodes_[0].box, slabs, t0, t1);
-        if (root == miss) return;
-        stack[top++] = {0, root};
-        while (top > 0) {
-            const Entry e = stack[--top];
-            const double limit = t_far ? *t_far : t1;
-            if (e.t > limit) continue;
-            const Node& node = nodes_[e.node];
-            if (node.count > 0) {
-                for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
-                    double t, u, v;
-                    if (hit_triangle(triangles_[k], o, sheared, t0, t_far ? *t_far : t1, t, u, v) &&
-                        visit(triangles_[k], t, u, v))
-                        return;
-                }
-                continue;
-            }
-            const std::uint32_t left = e.node + 1, right = node.first;
-            const double tl = enter(nodes_[left].box, slabs, t0, limit);
-            const double tr = enter(nodes_[right].box, slabs, t0, limit);
-            if (tl <= tr) {  // push the farther child first, so the nearer is visited first
-                if (tr != miss) stack[top++] = {right, tr};
-                if (tl != miss) stack[top++] = {left, tl};
-            } else {
-                if (tl != miss) stack[top++] = {left, tl};
-                stack[top++] = {right, tr};
-            }
+    /// What the SIMD filter of the triangle test needs of a ray, in single precision: the
+    /// origin, the shear of ShearedRay, the error bound, and the range of t in which every
+    /// vertex must lie for a sure hit (see candidates).
+    struct FilterRay {
+        detail::Float4 origin[3], sx, sy, sz, bound_scale, bound_floor, t_low, t_high;
+        int kx, ky, kz;
+        FilterRay(const Vec3& o, const ShearedRay& r, double scale, double t0, double t1)
+            : kx(r.kx), ky(r.ky), kz(r.kz) {
+            using detail::Float4;
+            for (int a = 0; a < 3; ++a)
+                origin[a] = Float4::splat(static_cast<float>(glm::value_ptr(o)[a]));
+            sx = Float4::splat(static_cast<float>(r.sx));
+            sy = Float4::splat(static_cast<float>(r.sy));
+            // R bounds every coordinate of vertices and origin. Far outside float's comfortable
+            // range the bound below could fail (overflow, subnormals, NaN): then reject nothing
+            // and prove nothing. Within it, every value in candidates is finite.
+            const double R = scale + max_abs(o);
+            const bool sane =
+                R > 1e-15 && R < 1e15 && std::abs(r.sz) < 1e30 && std::isfinite(r.sx + r.sy);
+            const double inf = std::numeric_limits<double>::infinity();
+            bound_scale = Float4::splat(static_cast<float>(sane ? 0x1p-18 * R : inf));
+            bound_floor = Float4::splat(static_cast<float>(0x1p-16 * R));
+            sz = Float4::splat(static_cast<float>(r.sz));
+            const double margin = 0x1p-20 * (R * std::abs(r.sz) + 1.0);
+            t_low = Float4::splat(static_cast<float>(sane ? t0 + margin : inf));
+            t_high = Float4::splat(static_cast<float>(t1 - margin));
         }
+    };
+
+    /// Lanes of a block: those the exact test might hit, and those it surely hits.
+    struct Lanes {
+        unsigned maybe, sure;
+    };
+
+    /// Which triangles of a block the exact (double) test might hit, and which it surely hits:
+    /// Woop's sheared edge functions U, V, W for four triangles at once in single precision.
+    /// A triangle is rejected only when one edge function is surely negative and another surely
+    /// positive, i.e. beyond the rounding error; it is surely hit when all three are surely of
+    /// one sign and the t of each vertex (the hit's t is their convex combination) lies surely
+    /// inside (t0, t1). With u = 2^-24 and R a bound on every coordinate of vertices and
+    /// origin, each sheared coordinate (ax ... cy) is off by at most 16 u R after rounding
+    /// vertices, origin, shear and arithmetic, and is at most 4R; so U is off by at most
+    /// 24 u R M + 512 u^2 R^2, where M is the sum of the six magnitudes. The bound used,
+    /// 64 u R (M + 2^-16 R), is more than twice that even with M taken from the rounded values.
+    /// A vertex's t is off by at most 4 u R |sz| + 2.1 u; the margin used is 16 u (R |sz| + 1).
+    /// So the filter never contradicts the double test, and answers are exactly its answers.
+    static Lanes candidates(const TriangleBlock& b, const FilterRay& r) {
+        using detail::Float4;
+        std::array<Float4, 3> px, py, t;
+        for (int i = 0; i < 3; ++i) {
+            const Float4 x = Float4::load(b.v[3 * i + r.kx].data()) - r.origin[r.kx];
+            const Float4 y = Float4::load(b.v[3 * i + r.ky].data()) - r.origin[r.ky];
+            const Float4 z = Float4::load(b.v[3 * i + r.kz].data()) - r.origin[r.kz];
+            px[i] = x - r.sx * z;
+            py[i] = y - r.sy * z;
+            t[i] = z * r.sz;
+        }
+        const Float4 U = px[2] * py[1] - py[2] * px[1];
+        const Float4 V = px[0] * py[2] - py[0] * px[2];
+        const Float4 W = px[1] * py[0] - py[1] * px[0];
+        const Float4 M =
+            vabs(px[0]) + vabs(py[0]) + vabs(px[1]) + vabs(py[1]) + vabs(px[2]) + vabs(py[2]);
+        const Float4 bound = r.bound_scale * (M + r.bound_floor);
+        const Float4 minus = Float4::splat(0.0f) - bound;
+        // Only the smallest and largest of U, V, W matter (and of the vertices' t). No NaN can
+        // arise while the filter is on (see FilterRay), so min / max drop none; while it is off,
+        // the bound is +inf or NaN and every lane is a candidate, none sure.
+        const Float4 low = vmin(vmin(U, V), W), high = vmax(vmax(U, V), W);
+        const int some_negative = less_mask(low, minus), some_positive = less_mask(bound, high);
+        const int all_one_sign = less_mask(bound, low) | less_mask(high, minus);
+        const int inside = less_mask(r.t_low, vmin(vmin(t[0], t[1]), t[2])) &
+                           less_mask(vmax(vmax(t[0], t[1]), t[2]), r.t_high);
+        return {static_cast<unsigned>(~(some_negative & some_positive)) & 15u,
+                static_cast<unsigned>(all_one_sign & inside)};
     }
 
+    /// A subtree still to visit: an inner node (count 0) or a leaf's triangle range, with its
+    /// order key: a lower bound of the distance at which the ray enters its box, or +inf for a
+    /// box deferred (see RayBoxes::enter).
+    struct Entry {
+        std::uint32_t first, count;
+        float t;
+    };
+
+    /// From inner node e, walks down towards the child box of least key that the ray enters
+    /// until e is a leaf, pushing the other children entered (larger keys first, so smaller ones
+    /// are popped first). Returns false if some inner node on the way has no child entered.
+    bool descend(Entry& e, const RayBoxes& ray, float t1, std::array<Entry, stack_size>& stack,
+                 std::size_t& top) const {
+        while (e.count == 0) {
+            const Node& node = nodes_[e.first];
+            alignas(16) std::array<float, 4> key;
+            unsigned mask = static_cast<unsigned>(ray.enter(node, t1, key.data()));
+            if (mask == 0) return false;
+            auto child = [&](int k) { return Entry{node.first[k], node.count[k], key[k]}; };
+            // One or two children entered, without branches on which (they would mispredict):
+            // with one, k1 = k0 and the store above the stack top is dropped.
+            const int k0 = std::countr_zero(mask);
+            mask &= mask - 1;
+            const int k1 = mask != 0 ? std::countr_zero(mask) : k0;
+            const bool two = mask != 0;
+            mask &= mask - 1;
+            const bool swap = key[k1] < key[k0];
+            stack[top] = child(swap ? k0 : k1);
+            top += two ? 1 : 0;
+            e = child(swap ? k1 : k0);
+            if (mask == 0) continue;
+            const std::size_t base = top - 1;  // three or four: keep [base, top) sorted
+            stack[top++] = e;
+            for (; mask != 0; mask &= mask - 1) {
+                const Entry c = child(std::countr_zero(mask));
+                std::size_t j = top++;
+                for (; j > base && stack[j - 1].t < c.t; --j) stack[j] = stack[j - 1];
+                stack[j] = c;
+            }
+            e = stack[--top];
+        }
+        return true;
+    }
+
+    /// Front-to-back traversal with an explicit stack; visit(triangle, t, u, v) is called for
+    /// hits on triangles of patches other than those in `skip`, and returns true to stop. If
+    /// `t_far` is given, it is re-read after each hit (closest-hit queries shrink it and drop
+    /// subtrees entered beyond it). With `any_hit`, a triangle that the filter proves hit ends
+    /// the search without the double test (nor a call of visit). Returns true if stopped.
+    template <class Visit>
+    bool traverse(const Vec3& o, const Vec3& d, double t0, double t1, Visit&& visit,
+                  const double* t_far = nullptr,
+                  std::array<std::uint32_t, 2> skip = {no_patch, no_patch},
+                  bool any_hit = false) const {
+        if (nodes_.empty() || d == Vec3(0.0)) return false;
+        const ShearedRay sheared(d);
+        // An occlusion ray starts on a surface. The boxes around its origin hold that surface and
+        // its neighbours, which the ray leaves rather than crosses: try them last. (In bench_bvh
+        // this visits a quarter fewer leaves.) A closest hit needs the plain near-to-far order.
+        // (NaN defers nothing: no comparison with it holds.)
+        const float defer = any_hit ? float_below(t0) : std::numeric_limits<float>::quiet_NaN();
+        const RayBoxes ray(o, d, t0, scale_, defer);
+        const FilterRay filter(o, sheared, scale_, t0, t1);
+        std::array<Entry, stack_size> stack;
+        std::size_t top = 0;
+        stack[top++] = {0, 0, float_below(t0)};
+        auto skipped = [&](const TriangleBlock& block, int lane) {
+            return block.patch[lane] == skip[0] || block.patch[lane] == skip[1];
+        };
+        while (top > 0) {
+            Entry e = stack[--top];
+            const float limit = float_above(t_far ? *t_far : t1);
+            // Keys are distances unless deferring, and only closest hits (t_far) prune by distance.
+            if ((t_far && e.t > limit) || !descend(e, ray, limit, stack, top)) continue;
+            for (std::uint32_t first = e.first; first < e.first + e.count; first += 4) {
+                const TriangleBlock& block = blocks_[first / 4];
+                const std::uint32_t left = e.first + e.count - first;
+                const unsigned valid = left >= 4 ? 15u : (1u << left) - 1;
+                const Lanes lanes = candidates(block, filter);
+                unsigned mask = lanes.maybe & valid;
+                if (any_hit) {
+                    for (unsigned sure = lanes.sure & valid; sure != 0; sure &= sure - 1)
+                        if (!skipped(block, std::countr_zero(sure))) return true;
+                    mask &= ~lanes.sure;
+                }
+                for (; mask != 0; mask &= mask - 1) {
+                    const int lane = std::countr_zero(mask);
+                    if (skipped(block, lane)) continue;
+                    const Triangle& tri = triangles_[first + lane];
+                    double t, u, v;
+                    if (hit_triangle(tri, o, sheared, t0, t_far ? *t_far : t1, t, u, v) &&
+                        visit(tri, t, u, v))
+                        return true;
+                }
+            }
+        }
+        return false;
+    }
+
+    static constexpr std::uint32_t no_patch = std::numeric_limits<std::uint32_t>::max();
+
     BvhOptions options_;
-    std::vector<Triangle> triangles_;
-    std::vector<Node> nodes_;
+    std::vector<Triangle> triangles_;    // leaf by leaf, each leaf from a multiple of 4
+    std::vector<TriangleBlock> blocks_;  // triangles_ in fours, single precision
+    std::size_t triangle_count_ = 0;
+    std::vector<Node> nodes_;  // nodes_[0] is the root
+    double scale_ = 0.0;       // largest coordinate magnitude of any vertex
 };
 
 static_assert(Visibility<Bvh>);
