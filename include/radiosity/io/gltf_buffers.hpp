@@ -77,9 +77,10 @@ std::array<double, N> get_numbers(const GltfSource& g, const Json& o, const std:
     if (!v) return fallback;
     if (N == 1 && v->is_number() && std::isfinite(v->get<double>())) return {v->get<double>()};
     if (!v->is_array() || v->size() != N)
-        gltf_fail(
-            g, where,
-            std::string("'") + key + "' is not an array of " + std::to_string(N) + " numbers");
+        gltf_fail(g, where,
+                  std::string("'") + key + "' is not " +
+                      (N == 1 ? std::string("a number")
+                              : "an array of " + std::to_string(N) + " numbers"));
     std::array<double, N> out{};
     for (std::size_t k = 0; k < N; ++k) {
         if (!(*v)[k].is_number() || !std::isfinite((*v)[k].get<double>()))

@@ -36,7 +36,7 @@ struct GltfReadResult {
 
 namespace detail {
 
-/// Element `name` of a JSON object member (a node's "mesh"): nullopt if absent.
+/// An optional index member (a node's "mesh", a primitive's "indices"): nullopt if absent.
 inline std::optional<std::uint64_t> optional_index(const GltfSource& g, const Json& o,
                                                    const std::string& where, const char* key) {
     if (!member(o, key)) return std::nullopt;
