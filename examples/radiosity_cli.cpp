@@ -41,10 +41,10 @@ struct Args {
     std::vector<double> camera;  // eye, target, up: 9 numbers; empty: the default camera
     double fov = 0.0;            // vertical field of view in degrees; 0: the default
     bool quiet = false;
-    bool ply_float = false;  // linear float colours in the PLY instead of 8-bit sRGB
-    bool partial = false;    // on Ctrl-C during the solve, still write what was computed
-    std::string lightmap;    // bake a lightmap into this picture (.hdr, .exr, .png)
-    int lightmap_size = 256;  // 2.8k patches on the Cornell box: a bake of seconds
+    bool ply_float = false;      // linear float colours in the PLY instead of 8-bit sRGB
+    bool partial = false;        // on Ctrl-C during the solve, still write what was computed
+    std::string lightmap;        // bake a lightmap into this picture (.hdr, .exr, .png)
+    int lightmap_size = 256;     // 2.8k patches on the Cornell box: a bake of seconds
     double texel_density = 0.0;  // > 0: texels per scene unit instead of a fixed size
     int gutter = 2;
     double texels_per_patch = 4.0;
@@ -99,15 +99,18 @@ class ProgressBar {
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
-/// Loads the scene: a built-in name or an OBJ file.
+/// Loads the scene: a built-in name, an OBJ, RRV (.xml) or glTF (.gltf, .glb) file.
 radiosity::Mesh<Colour> load_scene(const std::string& scene) {
     const auto names = radiosity::builtin_scene_names();
     if (std::find(names.begin(), names.end(), scene) != names.end())
         return radiosity::build_mesh(radiosity::builtin_scene<Colour>(scene));
     if (!std::filesystem::exists(scene))
         throw radiosity::Error(scene + ": no such file, and not a built-in scene");
-    if (std::filesystem::path(scene).extension() == ".xml")  // RRV's scene format
+    const auto extension = std::filesystem::path(scene).extension();
+    if (extension == ".xml")  // RRV's scene format
         return radiosity::build_mesh(radiosity::read_rrv<Colour>(scene));
+    if (extension == ".gltf" || extension == ".glb")
+        return radiosity::build_mesh(radiosity::read_gltf<Colour>(scene));
     return radiosity::build_mesh(radiosity::read_obj<Colour>(scene));
 }
 
@@ -346,8 +349,8 @@ int main(int argc, char** argv) {
     app.failure_message(CLI::FailureMessage::simple);
     app.add_option(
            "scene", a.scene,
-           "an OBJ file (Kd: reflectance, Ke: emission), an RRV scene (.xml) or a built-in "
-           "scene: " +
+           "an OBJ file (Kd: reflectance, Ke: emission), an RRV scene (.xml), a glTF file "
+           "(.gltf, .glb) or a built-in scene: " +
                [] {
                    std::string s;
                    for (const auto& n : radiosity::builtin_scene_names())
