@@ -30,11 +30,33 @@ struct HemicubeOptions {
 
 namespace detail {
 
-/// A frame at the hemicube's centre: right, up and forward axes of one of its five faces, in
-/// scene space, and the fraction of the face's height that lies above the patch's horizon.
+/// One of the hemicube's five faces, as a view of the hemicube's own frame (u, v, n): clip x is
+/// x_sign times the u or v coordinate, the depth axis w is w_sign times the u, v or n
+/// coordinate. The top face looks along n with y = v; a side face looks along u or v and maps
+/// its upper half (up = n in [0, w]) onto the whole raster, y = 2 n - w.
 struct HemicubeFace {
-    Vec3 right, up, forward;
-    bool side;  // side faces show only their upper half (above the patch's plane)
+    int x_axis;     // 0: u, 1: v
+    double x_sign;  // +1 or -1
+    int w_axis;     // 0: u, 1: v, 2: n
+    double w_sign;  // +1 or -1
+    bool side;      // side faces show only their upper half (above the patch's plane)
+};
+
+/// The five faces: the top (right u, up v, forward n) and the four sides, whose forward axes
+/// are u, -u, v and -v, up n, and right such that (right, up, forward) is right-handed.
+inline constexpr std::array<HemicubeFace, 5> hemicube_faces{{{0, 1.0, 2, 1.0, false},
+                                                             {1, 1.0, 0, 1.0, true},
+                                                             {1, -1.0, 0, -1.0, true},
+                                                             {0, -1.0, 1, 1.0, true},
+                                                             {0, 1.0, 1, -1.0, true}}};
+
+/// What the five faces of one hemicube draw: every patch vertex in the hemicube's frame (its
+/// coordinates along u, v and n from the centre, computed once and shared by the five faces),
+/// and, in index order, the patches that rise above the horizon; the others cannot show on any
+/// face, since every face looks at the half space n > 0 only.
+struct HemicubeView {
+    std::array<std::vector<double>, 3> axis;  // [0]: u, [1]: v, [2]: n, one entry per vertex
+    std::vector<std::uint32_t> patches;
 };
 
 /// Two unit vectors completing n to a right-handed orthonormal frame (Duff et al. 2017).
@@ -78,20 +100,30 @@ class Hemicube {
         const double diagonal = patches.size() > 0 ? glm::length(hi - lo) : 1.0;
         far_ = 2.0 * diagonal;
         near_ = 1e-7 * diagonal;
+        first_.assign(1, 0);
+        for (std::size_t j = 0; j < patches.size(); ++j)
+            first_.push_back(first_.back() + static_cast<std::uint32_t>(patches.polygon(j).size()));
     }
 
     /// Row i: F_ij for every patch j, from the hemicube at the centroid of patch i (RowSource).
     void row(std::size_t i, std::span<float> out) const {
         const PatchTable& t = table();
         if (out.size() != t.size()) throw Error("hemicube: row needs one entry per patch");
+        const detail::HemicubeView seen = view(i);
         std::vector<double> F(t.size(), 0.0);
         std::vector<std::int32_t> id;
         std::vector<double> depth;
-        for (const detail::HemicubeFace& face : faces(i)) {
-            item_buffer(i, face, id, depth);
-            accumulate(i, face.side ? side_dff_ : top_dff_, id, F);
+        for (const detail::HemicubeFace& face : detail::hemicube_faces) {
+            item_buffer(seen, face, id, depth);
+            accumulate(face.side ? side_dff_ : top_dff_, id, F);
         }
-        for (std::size_t j = 0; j < t.size(); ++j) out[j] = static_cast<float>(F[j]);
+        // A patch seen from behind keeps its pixels (it occludes) but takes nothing: the light
+        // that strikes its back is absorbed.
+        const Vec3& c = t.centroid(i);
+        for (std::size_t j = 0; j < t.size(); ++j) {
+            const bool front = glm::dot(c - t.centroid(j), t.normal(j)) > 0.0;
+            out[j] = front ? static_cast<float>(F[j]) : 0.0f;
+        }
     }
 
     /// The item buffers of patch i's hemicube, for teaching and debugging: for the top face and
@@ -101,8 +133,9 @@ class Hemicube {
     std::array<std::vector<std::int32_t>, 5> item_buffers(std::size_t i) const {
         std::array<std::vector<std::int32_t>, 5> ids;
         std::vector<double> depth;
-        const auto f = faces(i);
-        for (std::size_t k = 0; k < 5; ++k) item_buffer(i, f[k], ids[k], depth);
+        const detail::HemicubeView seen = view(i);
+        for (std::size_t k = 0; k < 5; ++k)
+            item_buffer(seen, detail::hemicube_faces[k], ids[k], depth);
         return ids;
     }
     /// Delta form factor of each top-face pixel, row after row.
@@ -126,15 +159,14 @@ class Hemicube {
         return *patches_;
     }
 
-    /// Draws every other patch into one face's z-buffer, keeping the nearest patch per pixel.
-    void item_buffer(std::size_t i, const detail::HemicubeFace& face, std::vector<std::int32_t>& id,
-                     std::vector<double>& depth) const {
-        const PatchTable& t = table();
+    /// Draws the patches above the horizon into one face's z-buffer, keeping the nearest patch
+    /// per pixel.
+    void item_buffer(const detail::HemicubeView& seen, const detail::HemicubeFace& face,
+                     std::vector<std::int32_t>& id, std::vector<double>& depth) const {
         const int w = options_.resolution, h = face.side ? w / 2 : w;
         id.assign(static_cast<std::size_t>(w * h), -1);
         depth.assign(id.size(), std::numeric_limits<double>::infinity());
-        for (std::size_t j = 0; j < t.size(); ++j)
-            if (j != i) draw(j, t.centroid(i), face, w, h, id, depth);
+        for (const std::uint32_t j : seen.patches) draw(j, seen, face, w, h, id, depth);
     }
 
     /// The delta form factors of each pixel (the equations above), computed once.
@@ -155,8 +187,9 @@ class Hemicube {
             }
     }
 
-    /// The five faces of the hemicube of patch i, turned about the normal by a per-patch angle.
-    std::array<detail::HemicubeFace, 5> faces(std::size_t i) const {
+    /// The hemicube's frame at patch i: two tangents u, v and the normal n, turned about the
+    /// normal by a per-patch angle.
+    std::array<Vec3, 3> frame(std::size_t i) const {
         const Vec3 n = table().normal(i);
         Vec3 u, v;
         detail::orthonormal_basis(n, u, v);
@@ -167,39 +200,61 @@ class Hemicube {
             v = glm::cross(n, u2);
             u = u2;
         }
-        return {{{u, v, n, false},
-                 {v, n, u, true},
-                 {-v, n, -u, true},
-                 {-u, n, v, true},
-                 {u, n, -v, true}}};
+        return {u, v, n};
     }
 
-    /// Projects patch j onto one face of the hemicube centred at c and draws it into the
-    /// z-buffer: clip coordinates (x, y, z, w) = (right, up, depth, forward) for the top face;
-    /// side faces map the upper half (up in [0, forward]) onto the whole raster.
-    void draw(std::size_t j, const Vec3& c, const detail::HemicubeFace& face, int w, int h,
-              std::vector<std::int32_t>& id, std::vector<double>& depth) const {
-        const auto poly = table().polygon(j);
+    /// Every vertex in the frame of patch i's hemicube (one transform per vertex, not one per
+    /// face), and the patches with a vertex above the horizon.
+    detail::HemicubeView view(std::size_t i) const {
+        const PatchTable& t = table();
+        const Vec3& c = t.centroid(i);
+        const auto [u, v, n] = frame(i);
+        detail::HemicubeView seen;
+        const std::size_t m = first_.back();
+        for (auto& a : seen.axis) a.resize(m);
+        const Vec3* p = m > 0 ? t.polygon(0).data() : nullptr;  // all polygons, one array
+        for (std::size_t k = 0; k < m; ++k) {
+            const Vec3 d = p[k] - c;
+            seen.axis[0][k] = glm::dot(d, u);
+            seen.axis[1][k] = glm::dot(d, v);
+            seen.axis[2][k] = glm::dot(d, n);
+        }
+        for (std::size_t j = 0; j < t.size(); ++j) {
+            bool above = false;
+            for (std::uint32_t k = first_[j]; k < first_[j + 1]; ++k)
+                above = above || seen.axis[2][k] > 0.0;
+            if (above && j != i) seen.patches.push_back(static_cast<std::uint32_t>(j));
+        }
+        return seen;
+    }
+
+    /// Projects patch j onto one face of the hemicube and draws it into the z-buffer: clip
+    /// coordinates (x, y, z, w) = (right, up, depth, forward) for the top face; side faces map
+    /// the upper half (up in [0, forward]) onto the whole raster.
+    void draw(std::uint32_t j, const detail::HemicubeView& seen, const detail::HemicubeFace& face,
+              int w, int h, std::vector<std::int32_t>& id, std::vector<double>& depth) const {
+        const std::uint32_t first = first_[j], count = first_[j + 1] - first;
+        const double* X = seen.axis[static_cast<std::size_t>(face.x_axis)].data() + first;
+        const double* F = seen.axis[static_cast<std::size_t>(face.w_axis)].data() + first;
+        const double* U = seen.axis[face.side ? 2 : 1].data() + first;  // up: n or v
         const double A = (far_ + near_) / (far_ - near_), B = -2.0 * far_ * near_ / (far_ - near_);
         std::array<Vec4, 16> clip;
         std::vector<Vec4> big;
-        Vec4* p = poly.size() <= clip.size() ? clip.data() : (big.resize(poly.size()), big.data());
+        Vec4* p = count <= clip.size() ? clip.data() : (big.resize(count), big.data());
         // Frustum culling by outcodes (Cohen & Sutherland): a polygon whose vertices are all
         // beyond one plane of the face's frustum cannot cover a pixel. Most patches lie in
         // one or two of the five faces, so this skips most of the rasteriser's setup.
         unsigned outside = ~0u;
-        for (std::size_t k = 0; k < poly.size(); ++k) {
-            const Vec3 d = poly[k] - c;
-            const double x = glm::dot(d, face.right), y = glm::dot(d, face.up);
-            const double f = glm::dot(d, face.forward);
-            p[k] = Vec4(x, face.side ? 2.0 * y - f : y, A * f + B, f);
-            const double X = p[k].x, Y = p[k].y, W = p[k].w;
-            outside &= (W <= near_ ? 1u : 0u) | (X > W ? 2u : 0u) | (X < -W ? 4u : 0u) |
-                       (Y > W ? 8u : 0u) | (Y < -W ? 16u : 0u);
+        for (std::uint32_t k = 0; k < count; ++k) {
+            const double x = face.x_sign * X[k], f = face.w_sign * F[k];
+            p[k] = Vec4(x, face.side ? 2.0 * U[k] - f : U[k], A * f + B, f);
+            const double Y = p[k].y;
+            outside &= (f <= near_ ? 1u : 0u) | (x > f ? 2u : 0u) | (x < -f ? 4u : 0u) |
+                       (Y > f ? 8u : 0u) | (Y < -f ? 16u : 0u);
         }
         if (outside != 0u) return;
         const auto index = static_cast<std::int32_t>(j);
-        for (std::size_t k = 1; k + 1 < poly.size(); ++k)
+        for (std::uint32_t k = 1; k + 1 < count; ++k)
             rasterize_triangle({p[0], p[k], p[k + 1]}, w, h, [&](const Fragment& frag) {
                 const auto at = static_cast<std::size_t>(frag.y * w + frag.x);
                 if (frag.depth < depth[at]) {
@@ -209,22 +264,17 @@ class Hemicube {
             });
     }
 
-    /// Adds the delta form factor of every pixel to the patch seen there, if it shows patch i
-    /// its front; a patch seen from behind keeps its pixels (it occludes) but takes nothing.
-    void accumulate(std::size_t i, const std::vector<double>& dff,
-                    const std::vector<std::int32_t>& id, std::vector<double>& F) const {
-        const PatchTable& t = table();
-        const Vec3& c = t.centroid(i);
-        for (std::size_t k = 0; k < id.size(); ++k) {
-            if (id[k] < 0) continue;
-            const auto j = static_cast<std::size_t>(id[k]);
-            if (glm::dot(c - t.centroid(j), t.normal(j)) > 0.0) F[j] += dff[k];
-        }
+    /// Adds the delta form factor of every pixel to the patch seen there.
+    static void accumulate(const std::vector<double>& dff, const std::vector<std::int32_t>& id,
+                           std::vector<double>& F) {
+        for (std::size_t k = 0; k < id.size(); ++k)
+            if (id[k] >= 0) F[static_cast<std::size_t>(id[k])] += dff[k];
     }
 
     HemicubeOptions options_;
     const PatchTable* patches_ = nullptr;
     std::vector<double> top_dff_, side_dff_;
+    std::vector<std::uint32_t> first_{0};  // patch j's vertices: first_[j] .. first_[j + 1] - 1
     double near_ = 1e-7, far_ = 1.0;
 };
 
