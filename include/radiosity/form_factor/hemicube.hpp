@@ -255,10 +255,10 @@ class Hemicube {
         if (outside != 0u) return;
         const auto index = static_cast<std::int32_t>(j);
         for (std::uint32_t k = 1; k + 1 < count; ++k)
-            rasterize_triangle({p[0], p[k], p[k + 1]}, w, h, [&](const Fragment& frag) {
-                const auto at = static_cast<std::size_t>(frag.y * w + frag.x);
-                if (frag.depth < depth[at]) {
-                    depth[at] = frag.depth;
+            rasterize_depth({p[0], p[k], p[k + 1]}, w, h, [&](int x, int y, double z) {
+                const auto at = static_cast<std::size_t>(y * w + x);
+                if (z < depth[at]) {
+                    depth[at] = z;
                     id[at] = index;
                 }
             });
