@@ -50,13 +50,37 @@ inline constexpr std::array<HemicubeFace, 5> hemicube_faces{{{0, 1.0, 2, 1.0, fa
                                                              {0, -1.0, 1, 1.0, true},
                                                              {0, 1.0, 1, -1.0, true}}};
 
+/// Clip coordinates (x, y, z, w) of a point with frame coordinates (u, v, n) on one face: the
+/// top face shows (u, v) looking along n; a side face maps its upper half (up = n in [0, w])
+/// onto the whole raster, y = 2 n - w. z = A w + B is the perspective depth.
+inline Vec4 face_clip(const HemicubeFace& face, const std::array<double, 3>& a, double A,
+                      double B) {
+    const double x = face.x_sign * a[static_cast<std::size_t>(face.x_axis)];
+    const double w = face.w_sign * a[static_cast<std::size_t>(face.w_axis)];
+    return {x, face.side ? 2.0 * a[2] - w : a[1], A * w + B, w};
+}
+
+/// Outcode of a point against one face's frustum (Cohen & Sutherland): one bit per plane it
+/// lies beyond (near, right, left, top, bottom), for clip x, y and depth axis w.
+inline unsigned outcode(double x, double y, double w, double near) {
+    return (w <= near ? 1u : 0u) | (x > w ? 2u : 0u) | (x < -w ? 4u : 0u) | (y > w ? 8u : 0u) |
+           (y < -w ? 16u : 0u);
+}
+
+/// The outcodes of a point with frame coordinates (u, v, n) against all five faces, five bits
+/// per face in the order of hemicube_faces (the same clip coordinates as face_clip).
+inline unsigned face_outcodes(double u, double v, double n, double near) {
+    return outcode(u, v, n, near) | outcode(v, 2.0 * n - u, u, near) << 5 |
+           outcode(-v, 2.0 * n + u, -u, near) << 10 | outcode(-u, 2.0 * n - v, v, near) << 15 |
+           outcode(u, 2.0 * n + v, -v, near) << 20;
+}
+
 /// What the five faces of one hemicube draw: every patch vertex in the hemicube's frame (its
 /// coordinates along u, v and n from the centre, computed once and shared by the five faces),
-/// and, in index order, the patches that rise above the horizon; the others cannot show on any
-/// face, since every face looks at the half space n > 0 only.
+/// and, per face and in index order, the patches that may show on it.
 struct HemicubeView {
     std::array<std::vector<double>, 3> axis;  // [0]: u, [1]: v, [2]: n, one entry per vertex
-    std::vector<std::uint32_t> patches;
+    std::array<std::vector<std::uint32_t>, 5> patches;
 };
 
 /// Two unit vectors completing n to a right-handed orthonormal frame (Duff et al. 2017).
@@ -100,6 +124,8 @@ class Hemicube {
         const double diagonal = patches.size() > 0 ? glm::length(hi - lo) : 1.0;
         far_ = 2.0 * diagonal;
         near_ = 1e-7 * diagonal;
+        A_ = (far_ + near_) / (far_ - near_);  // z = A w + B: -w at the near plane, w at far
+        B_ = -2.0 * far_ * near_ / (far_ - near_);
         first_.assign(1, 0);
         for (std::size_t j = 0; j < patches.size(); ++j)
             first_.push_back(first_.back() + static_cast<std::uint32_t>(patches.polygon(j).size()));
@@ -113,9 +139,9 @@ class Hemicube {
         std::vector<double> F(t.size(), 0.0);
         std::vector<std::int32_t> id;
         std::vector<double> depth;
-        for (const detail::HemicubeFace& face : detail::hemicube_faces) {
-            item_buffer(seen, face, id, depth);
-            accumulate(face.side ? side_dff_ : top_dff_, id, F);
+        for (std::size_t k = 0; k < 5; ++k) {
+            item_buffer(seen, k, id, depth);
+            accumulate(k > 0 ? side_dff_ : top_dff_, id, F);
         }
         // A patch seen from behind keeps its pixels (it occludes) but takes nothing: the light
         // that strikes its back is absorbed.
@@ -134,8 +160,7 @@ class Hemicube {
         std::array<std::vector<std::int32_t>, 5> ids;
         std::vector<double> depth;
         const detail::HemicubeView seen = view(i);
-        for (std::size_t k = 0; k < 5; ++k)
-            item_buffer(seen, detail::hemicube_faces[k], ids[k], depth);
+        for (std::size_t k = 0; k < 5; ++k) item_buffer(seen, k, ids[k], depth);
         return ids;
     }
     /// Delta form factor of each top-face pixel, row after row.
@@ -159,14 +184,15 @@ class Hemicube {
         return *patches_;
     }
 
-    /// Draws the patches above the horizon into one face's z-buffer, keeping the nearest patch
+    /// Draws the patches that may show on face k into its z-buffer, keeping the nearest patch
     /// per pixel.
-    void item_buffer(const detail::HemicubeView& seen, const detail::HemicubeFace& face,
-                     std::vector<std::int32_t>& id, std::vector<double>& depth) const {
+    void item_buffer(const detail::HemicubeView& seen, std::size_t k, std::vector<std::int32_t>& id,
+                     std::vector<double>& depth) const {
+        const detail::HemicubeFace& face = detail::hemicube_faces[k];
         const int w = options_.resolution, h = face.side ? w / 2 : w;
         id.assign(static_cast<std::size_t>(w * h), -1);
         depth.assign(id.size(), std::numeric_limits<double>::infinity());
-        for (const std::uint32_t j : seen.patches) draw(j, seen, face, w, h, id, depth);
+        for (const std::uint32_t j : seen.patches[k]) draw(j, seen, face, w, h, id, depth);
     }
 
     /// The delta form factors of each pixel (the equations above), computed once.
@@ -204,7 +230,10 @@ class Hemicube {
     }
 
     /// Every vertex in the frame of patch i's hemicube (one transform per vertex, not one per
-    /// face), and the patches with a vertex above the horizon.
+    /// face), and the patches that may show on each face. Patches below the horizon show on no
+    /// face (every face looks into n > 0). Frustum culling by outcodes: a polygon whose vertices
+    /// all lie beyond one plane of a face's frustum cannot cover a pixel of it; most patches
+    /// lie in one or two of the five faces, so this skips most of the rasteriser's setup.
     detail::HemicubeView view(std::size_t i) const {
         const PatchTable& t = table();
         const Vec3& c = t.centroid(i);
@@ -223,43 +252,46 @@ class Hemicube {
             bool above = false;
             for (std::uint32_t k = first_[j]; k < first_[j + 1]; ++k)
                 above = above || seen.axis[2][k] > 0.0;
-            if (above && j != i) seen.patches.push_back(static_cast<std::uint32_t>(j));
+            if (!above || j == i) continue;
+            unsigned outside = ~0u;
+            for (std::uint32_t k = first_[j]; k < first_[j + 1]; ++k)
+                outside &=
+                    detail::face_outcodes(seen.axis[0][k], seen.axis[1][k], seen.axis[2][k], near_);
+            for (std::size_t f = 0; f < 5; ++f)
+                if (((outside >> (5 * f)) & 31u) == 0u)
+                    seen.patches[f].push_back(static_cast<std::uint32_t>(j));
         }
         return seen;
     }
 
-    /// Projects patch j onto one face of the hemicube and draws it into the z-buffer: clip
-    /// coordinates (x, y, z, w) = (right, up, depth, forward) for the top face; side faces map
-    /// the upper half (up in [0, forward]) onto the whole raster.
+    /// Projects patch j onto one face of the hemicube and draws it into the z-buffer.
     void draw(std::uint32_t j, const detail::HemicubeView& seen, const detail::HemicubeFace& face,
               int w, int h, std::vector<std::int32_t>& id, std::vector<double>& depth) const {
         const std::uint32_t first = first_[j], count = first_[j + 1] - first;
-        const double* X = seen.axis[static_cast<std::size_t>(face.x_axis)].data() + first;
-        const double* F = seen.axis[static_cast<std::size_t>(face.w_axis)].data() + first;
-        const double* U = seen.axis[face.side ? 2 : 1].data() + first;  // up: n or v
-        const double A = (far_ + near_) / (far_ - near_), B = -2.0 * far_ * near_ / (far_ - near_);
         std::array<Vec4, 16> clip;
         std::vector<Vec4> big;
         Vec4* p = count <= clip.size() ? clip.data() : (big.resize(count), big.data());
-        // Frustum culling by outcodes (Cohen & Sutherland): a polygon whose vertices are all
-        // beyond one plane of the face's frustum cannot cover a pixel. Most patches lie in
-        // one or two of the five faces, so this skips most of the rasteriser's setup.
-        unsigned outside = ~0u;
-        for (std::uint32_t k = 0; k < count; ++k) {
-            const double x = face.x_sign * X[k], f = face.w_sign * F[k];
-            p[k] = Vec4(x, face.side ? 2.0 * U[k] - f : U[k], A * f + B, f);
-            const double Y = p[k].y;
-            outside &= (f <= near_ ? 1u : 0u) | (x > f ? 2u : 0u) | (x < -f ? 4u : 0u) |
-                       (Y > f ? 8u : 0u) | (Y < -f ? 16u : 0u);
-        }
-        if (outside != 0u) return;
+        for (std::uint32_t k = 0; k < count; ++k)
+            p[k] = detail::face_clip(
+                face, {seen.axis[0][first + k], seen.axis[1][first + k], seen.axis[2][first + k]},
+                A_, B_);
         const auto index = static_cast<std::int32_t>(j);
         for (std::uint32_t k = 1; k + 1 < count; ++k)
-            rasterize_depth({p[0], p[k], p[k + 1]}, w, h, [&](int x, int y, double z) {
-                const auto at = static_cast<std::size_t>(y * w + x);
-                if (z < depth[at]) {
-                    depth[at] = z;
-                    id[at] = index;
+            rasterize_depth({p[0], p[k], p[k + 1]}, w, h, [&](const DepthSpan& s) {
+                // Locals, not references: the compiler cannot tell that the stores below leave
+                // them alone, and would load them again for every pixel.
+                const std::int32_t who = index;
+                const double z0 = s.z0, dzdx = s.dzdx;
+                const auto row = static_cast<std::size_t>(s.y * w);
+                double* const d = depth.data() + row;
+                std::int32_t* const item = id.data() + row;
+                double x = s.begin;  // pixel column as a double: no conversion per pixel
+                for (int px = s.begin; px < s.end; ++px, x += 1.0) {
+                    const double z = z0 + dzdx * x;
+                    if (z < d[px]) {
+                        d[px] = z;
+                        item[px] = who;
+                    }
                 }
             });
     }
@@ -275,7 +307,7 @@ class Hemicube {
     const PatchTable* patches_ = nullptr;
     std::vector<double> top_dff_, side_dff_;
     std::vector<std::uint32_t> first_{0};  // patch j's vertices: first_[j] .. first_[j + 1] - 1
-    double near_ = 1e-7, far_ = 1.0;
+    double near_ = 1e-7, far_ = 1.0, A_ = 1.0, B_ = 0.0;
 };
 
 static_assert(FormFactorMethod<Hemicube>);

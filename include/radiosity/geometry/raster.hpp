@@ -166,14 +166,14 @@ inline EdgeStepper edge_stepper(const ScreenVertex& a, const ScreenVertex& b, st
             (b.sx - a.sx) * subpixels};
 }
 
-/// Scan-converts one screen-space triangle: calls covered(x, y) for every pixel whose centre
-/// it covers, row by row. The three edge functions are exact integers, stepped by additions
-/// across the triangle's bounding box; a pixel is covered when none is negative, i.e. when
-/// their bitwise or is not negative. Rows end early once the covered span is passed (a
-/// triangle is convex: each row covers one run of pixels).
-template <class Covered>
+/// Scan-converts one screen-space triangle: calls span(y, begin, end) for every row y with
+/// pixels begin .. end - 1 covered (their centres inside; a triangle is convex, so a row covers
+/// one run). The three edge functions are exact integers, stepped by additions across the
+/// triangle's bounding box; a pixel is covered when none is negative, i.e. when their bitwise
+/// or is not negative. A row stops at the end of its run.
+template <class Span>
 void scan_triangle(ScreenVertex v0, ScreenVertex v1, ScreenVertex v2, int width, int height,
-                   Covered&& covered) {
+                   Span&& span) {
     const std::int64_t area = edge(v0, v1, v2.sx, v2.sy);
     if (area == 0) return;            // seen edge-on: covers no pixel
     if (area < 0) std::swap(v1, v2);  // orient consistently; both windings are drawn (no culling)
@@ -195,18 +195,19 @@ void scan_triangle(ScreenVertex v0, ScreenVertex v1, ScreenVertex v2, int width,
                 e2 = edge_stepper(v0, v1, px, py);
     for (int y = y0; y <= y1; ++y) {
         std::int64_t a = e0.value, b = e1.value, c = e2.value;
-        bool inside = false;
-        for (int x = x0; x <= x1; ++x) {
-            if ((a | b | c) >= 0) {
-                covered(x, y);
-                inside = true;
-            } else if (inside) {
-                break;
-            }
+        int x = x0;
+        for (; x <= x1 && (a | b | c) < 0; ++x) {  // up to the run of covered pixels
             a += e0.step_x;
             b += e1.step_x;
             c += e2.step_x;
         }
+        const int begin = x;
+        for (; x <= x1 && (a | b | c) >= 0; ++x) {  // to its end
+            a += e0.step_x;
+            b += e1.step_x;
+            c += e2.step_x;
+        }
+        if (x > begin) span(y, begin, x);
         e0.value += e0.step_y;
         e1.value += e1.step_y;
         e2.value += e2.step_y;
@@ -252,25 +253,35 @@ void rasterize_triangle(const std::array<Vec4, 3>& clip, int width, int height, 
             const detail::ScreenVertex& v2) {
             const double area = detail::edge(v0, v1, v2.x, v2.y);
             if (area == 0.0 || !std::isfinite(area)) return;
-            detail::scan_triangle(v0, v1, v2, width, height, [&](int x, int y) {
-                const double px = x + 0.5, py = y + 0.5;
-                // Screen-space weights l_k are linear in x, y; z/w is too, but attributes are not:
-                // interpolate b/w and 1/w, and divide (perspective-correct interpolation).
-                const double l0 = detail::edge(v1, v2, px, py) / area,
-                             l1 = detail::edge(v2, v0, px, py) / area,
-                             l2 = detail::edge(v0, v1, px, py) / area;
-                const double depth = l0 * v0.z + l1 * v1.z + l2 * v2.z;
-                const double inv_w = l0 * v0.inv_w + l1 * v1.inv_w + l2 * v2.inv_w;
-                const glm::dvec3 b = (l0 * v0.b_w + l1 * v1.b_w + l2 * v2.b_w) / inv_w;
-                visit(Fragment{x, y, depth, b});
+            detail::scan_triangle(v0, v1, v2, width, height, [&](int y, int begin, int end) {
+                for (int x = begin; x < end; ++x) {
+                    const double px = x + 0.5, py = y + 0.5;
+                    // Screen-space weights l_k are linear in x, y; z/w is too, but attributes are
+                    // not: interpolate b/w and 1/w, and divide (perspective-correct interpolation).
+                    const double l0 = detail::edge(v1, v2, px, py) / area,
+                                 l1 = detail::edge(v2, v0, px, py) / area,
+                                 l2 = detail::edge(v0, v1, px, py) / area;
+                    const double depth = l0 * v0.z + l1 * v1.z + l2 * v2.z;
+                    const double inv_w = l0 * v0.inv_w + l1 * v1.inv_w + l2 * v2.inv_w;
+                    const glm::dvec3 b = (l0 * v0.b_w + l1 * v1.b_w + l2 * v2.b_w) / inv_w;
+                    visit(Fragment{x, y, depth, b});
+                }
             });
         });
 }
 
-/// Rasterises one clip-space triangle for a z-buffer only: calls visit(x, y, depth) for every
-/// covered pixel, exactly those rasterize_triangle visits, with depth = z/w from the plane
-/// through the three projected vertices (z/w is linear in screen space). What the hemicube
-/// needs, without the per-pixel barycentric weights.
+/// A run of covered pixels begin .. end - 1 of row y, and the depth z/w along it: z/w is linear
+/// in screen space, so along a row it is z0 + dzdx x.
+struct DepthSpan {
+    int y = 0, begin = 0, end = 0;  ///< row, first pixel, one past the last
+    double z0 = 0.0, dzdx = 0.0;    ///< depth at x = 0 of this row, and its step per pixel
+    double depth(int x) const { return z0 + dzdx * x; }  ///< z/w at the centre of pixel x
+};
+
+/// Rasterises one clip-space triangle for a z-buffer only: calls visit(DepthSpan) for every
+/// row's run of covered pixels, exactly those rasterize_triangle visits, with z/w from the plane
+/// through the three projected vertices. What the hemicube needs, without per-pixel barycentric
+/// weights, and with a tight loop per run for the caller's depth test.
 template <class Visit>
 void rasterize_depth(const std::array<Vec4, 3>& clip, int width, int height, Visit&& visit) {
     detail::project_triangle(
@@ -284,8 +295,9 @@ void rasterize_depth(const std::array<Vec4, 3>& clip, int width, int height, Vis
             if (det == 0.0 || !std::isfinite(det)) return;
             const double dzdx = (z1 * y2 - z2 * y1) / det, dzdy = (z2 * x1 - z1 * x2) / det;
             const double z0 = v0.z + dzdx * (0.5 - v0.x) + dzdy * (0.5 - v0.y);  // at pixel (0, 0)
-            detail::scan_triangle(v0, v1, v2, width, height,
-                                  [&](int x, int y) { visit(x, y, z0 + dzdx * x + dzdy * y); });
+            detail::scan_triangle(v0, v1, v2, width, height, [&](int y, int begin, int end) {
+                visit(DepthSpan{y, begin, end, z0 + dzdy * y, dzdx});
+            });
         });
 }
 
