@@ -67,12 +67,19 @@ inline unsigned outcode(double x, double y, double w, double near) {
            (y < -w ? 16u : 0u);
 }
 
+/// Outcode against a side face, clip x and depth axis w: its top and bottom planes are
+/// y = 2 n - w = +-w, i.e. n = w (the top face's edge) and n = 0 (the horizon).
+inline unsigned side_outcode(double x, double w, double n, double near) {
+    return (w <= near ? 1u : 0u) | (x > w ? 2u : 0u) | (x < -w ? 4u : 0u) | (n > w ? 8u : 0u) |
+           (n < 0.0 ? 16u : 0u);
+}
+
 /// The outcodes of a point with frame coordinates (u, v, n) against all five faces, five bits
-/// per face in the order of hemicube_faces (the same clip coordinates as face_clip).
+/// per face in the order of hemicube_faces (the frusta of face_clip).
 inline unsigned face_outcodes(double u, double v, double n, double near) {
-    return outcode(u, v, n, near) | outcode(v, 2.0 * n - u, u, near) << 5 |
-           outcode(-v, 2.0 * n + u, -u, near) << 10 | outcode(-u, 2.0 * n - v, v, near) << 15 |
-           outcode(u, 2.0 * n + v, -v, near) << 20;
+    return outcode(u, v, n, near) | side_outcode(v, u, n, near) << 5 |
+           side_outcode(-v, -u, n, near) << 10 | side_outcode(-u, v, n, near) << 15 |
+           side_outcode(u, -v, n, near) << 20;
 }
 
 /// What the five faces of one hemicube draw: every patch vertex in the hemicube's frame (its
@@ -127,8 +134,13 @@ class Hemicube {
         A_ = (far_ + near_) / (far_ - near_);  // z = A w + B: -w at the near plane, w at far
         B_ = -2.0 * far_ * near_ / (far_ - near_);
         first_.assign(1, 0);
-        for (std::size_t j = 0; j < patches.size(); ++j)
+        radius_.assign(patches.size(), 0.0);
+        for (std::size_t j = 0; j < patches.size(); ++j) {
             first_.push_back(first_.back() + static_cast<std::uint32_t>(patches.polygon(j).size()));
+            for (const Vec3& p : patches.polygon(j))
+                radius_[j] = std::max(radius_[j], glm::length(p - patches.centroid(j)));
+            radius_[j] *= 1.0 + 1e-9;  // a bounding sphere despite rounding
+        }
     }
 
     /// Row i: F_ij for every patch j, from the hemicube at the centroid of patch i (RowSource).
@@ -229,11 +241,13 @@ class Hemicube {
         return {u, v, n};
     }
 
-    /// Every vertex in the frame of patch i's hemicube (one transform per vertex, not one per
-    /// face), and the patches that may show on each face. Patches below the horizon show on no
-    /// face (every face looks into n > 0). Frustum culling by outcodes: a polygon whose vertices
-    /// all lie beyond one plane of a face's frustum cannot cover a pixel of it; most patches
-    /// lie in one or two of the five faces, so this skips most of the rasteriser's setup.
+    /// The vertices of the patches above the horizon of patch i in the frame of its hemicube
+    /// (one transform per vertex, not one per face), and the patches that may show on each face.
+    /// A patch whose bounding sphere lies below the horizon shows on no face (every face looks
+    /// into n > 0), and is skipped before its vertices are touched. Frustum culling by outcodes:
+    /// a polygon whose vertices all lie beyond one plane of a face's frustum cannot cover a pixel
+    /// of it; most patches lie in one or two of the five faces, so this skips most of the
+    /// rasteriser's setup.
     detail::HemicubeView view(std::size_t i) const {
         const PatchTable& t = table();
         const Vec3& c = t.centroid(i);
@@ -242,21 +256,20 @@ class Hemicube {
         const std::size_t m = first_.back();
         for (auto& a : seen.axis) a.resize(m);
         const Vec3* p = m > 0 ? t.polygon(0).data() : nullptr;  // all polygons, one array
-        for (std::size_t k = 0; k < m; ++k) {
-            const Vec3 d = p[k] - c;
-            seen.axis[0][k] = glm::dot(d, u);
-            seen.axis[1][k] = glm::dot(d, v);
-            seen.axis[2][k] = glm::dot(d, n);
-        }
         for (std::size_t j = 0; j < t.size(); ++j) {
+            if (glm::dot(t.centroid(j) - c, n) + radius_[j] <= 0.0 || j == i) continue;
             bool above = false;
-            for (std::uint32_t k = first_[j]; k < first_[j + 1]; ++k)
-                above = above || seen.axis[2][k] > 0.0;
-            if (!above || j == i) continue;
             unsigned outside = ~0u;
-            for (std::uint32_t k = first_[j]; k < first_[j + 1]; ++k)
-                outside &=
-                    detail::face_outcodes(seen.axis[0][k], seen.axis[1][k], seen.axis[2][k], near_);
+            for (std::uint32_t k = first_[j]; k < first_[j + 1]; ++k) {
+                const Vec3 d = p[k] - c;
+                const double du = glm::dot(d, u), dv = glm::dot(d, v), dn = glm::dot(d, n);
+                seen.axis[0][k] = du;
+                seen.axis[1][k] = dv;
+                seen.axis[2][k] = dn;
+                above = above || dn > 0.0;
+                outside &= detail::face_outcodes(du, dv, dn, near_);
+            }
+            if (!above) continue;
             for (std::size_t f = 0; f < 5; ++f)
                 if (((outside >> (5 * f)) & 31u) == 0u)
                     seen.patches[f].push_back(static_cast<std::uint32_t>(j));
@@ -296,17 +309,28 @@ class Hemicube {
             });
     }
 
-    /// Adds the delta form factor of every pixel to the patch seen there.
+    /// Adds the delta form factor of every pixel to the patch seen there. Neighbouring pixels
+    /// mostly see the same patch: their sum is kept in a register and added to F once per run.
     static void accumulate(const std::vector<double>& dff, const std::vector<std::int32_t>& id,
                            std::vector<double>& F) {
-        for (std::size_t k = 0; k < id.size(); ++k)
-            if (id[k] >= 0) F[static_cast<std::size_t>(id[k])] += dff[k];
+        std::int32_t run = -1;
+        double sum = 0.0;
+        for (std::size_t k = 0; k < id.size(); ++k) {
+            if (id[k] != run) {
+                if (run >= 0) F[static_cast<std::size_t>(run)] += sum;
+                run = id[k];
+                sum = 0.0;
+            }
+            sum += dff[k];
+        }
+        if (run >= 0) F[static_cast<std::size_t>(run)] += sum;
     }
 
     HemicubeOptions options_;
     const PatchTable* patches_ = nullptr;
     std::vector<double> top_dff_, side_dff_;
     std::vector<std::uint32_t> first_{0};  // patch j's vertices: first_[j] .. first_[j + 1] - 1
+    std::vector<double> radius_;           // of a sphere about patch j's centroid holding it
     double near_ = 1e-7, far_ = 1.0, A_ = 1.0, B_ = 0.0;
 };
 

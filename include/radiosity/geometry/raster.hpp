@@ -116,20 +116,22 @@ struct ScreenVertex {
     double x, y;          // pixel coordinates, y down
     double z;             // z / w
     double inv_w;         // 1 / w, for perspective-correct interpolation
-    glm::dvec3 b_w;       // barycentric weights divided by w
     std::int64_t sx, sy;  // x and y in fixed point (subpixels), rounded to nearest
+    const glm::dvec3* b;  // barycentric weights of the original triangle's vertices
 };
 
-/// Rounds a pixel coordinate (within the guard band) to fixed point.
+/// Rounds a pixel coordinate (within the guard band) to fixed point, to nearest, without a
+/// branch: shifted by 2^31 subpixels it is positive, where truncation rounds down.
 inline std::int64_t to_subpixels(double x) {
-    const double s = x * static_cast<double>(subpixels);
-    return static_cast<std::int64_t>(s >= 0.0 ? s + 0.5 : s - 0.5);
+    constexpr double offset = 0x1p31;
+    return static_cast<std::int64_t>(x * static_cast<double>(subpixels) + (offset + 0.5)) -
+           static_cast<std::int64_t>(offset);
 }
 
-inline ScreenVertex to_screen(const ClipVertex& v, int width, int height) {
-    const double iw = 1.0 / v.p.w;
-    const double x = (v.p.x * iw * 0.5 + 0.5) * width, y = (0.5 - v.p.y * iw * 0.5) * height;
-    return {x, y, v.p.z * iw, iw, v.b * iw, to_subpixels(x), to_subpixels(y)};
+inline ScreenVertex to_screen(const Vec4& p, const glm::dvec3& b, int width, int height) {
+    const double iw = 1.0 / p.w;
+    const double x = (p.x * iw * 0.5 + 0.5) * width, y = (0.5 - p.y * iw * 0.5) * height;
+    return {x, y, p.z * iw, iw, to_subpixels(x), to_subpixels(y), &b};
 }
 
 /// Edge function of the directed edge a -> b at point (x, y): twice the signed area of the
@@ -172,11 +174,13 @@ inline EdgeStepper edge_stepper(const ScreenVertex& a, const ScreenVertex& b, st
 /// triangle's bounding box; a pixel is covered when none is negative, i.e. when their bitwise
 /// or is not negative. A row stops at the end of its run.
 template <class Span>
-void scan_triangle(ScreenVertex v0, ScreenVertex v1, ScreenVertex v2, int width, int height,
-                   Span&& span) {
-    const std::int64_t area = edge(v0, v1, v2.sx, v2.sy);
-    if (area == 0) return;            // seen edge-on: covers no pixel
-    if (area < 0) std::swap(v1, v2);  // orient consistently; both windings are drawn (no culling)
+void scan_triangle(const ScreenVertex& v0, const ScreenVertex& a, const ScreenVertex& b, int width,
+                   int height, Span&& span) {
+    const std::int64_t area = edge(v0, a, b.sx, b.sy);
+    if (area == 0) return;  // seen edge-on: covers no pixel
+    // Oriented consistently (positive area); both windings are drawn (no culling).
+    const ScreenVertex& v1 = area > 0 ? a : b;
+    const ScreenVertex& v2 = area > 0 ? b : a;
     // Pixel x covers the centre x + 1/2: the columns and rows whose centres lie in the box.
     constexpr std::int64_t half = subpixels / 2;
     auto first = [](std::int64_t lo) { return -((half - lo) >> subpixel_bits); };  // ceil
@@ -223,9 +227,10 @@ void project_triangle(const std::array<Vec4, 3>& clip, int width, int height, Pi
     const double g = guard_band(width, height);
     if (inside_guard_band(clip[0], g) && inside_guard_band(clip[1], g) &&
         inside_guard_band(clip[2], g)) {
-        piece(to_screen({clip[0], {1, 0, 0}}, width, height),
-              to_screen({clip[1], {0, 1, 0}}, width, height),
-              to_screen({clip[2], {0, 0, 1}}, width, height));
+        static constexpr std::array<glm::dvec3, 3> corner{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+        piece(to_screen(clip[0], corner[0], width, height),
+              to_screen(clip[1], corner[1], width, height),
+              to_screen(clip[2], corner[2], width, height));
         return;
     }
     std::array<ClipVertex, 8> poly;
@@ -234,7 +239,8 @@ void project_triangle(const std::array<Vec4, 3>& clip, int width, int height, Pi
     std::array<ScreenVertex, 8> s;
     for (int k = 0; k < n; ++k)
         s[static_cast<std::size_t>(k)] =
-            to_screen(poly[static_cast<std::size_t>(k)], width, height);
+            to_screen(poly[static_cast<std::size_t>(k)].p, poly[static_cast<std::size_t>(k)].b,
+                      width, height);
     for (std::size_t k = 1; k + 1 < static_cast<std::size_t>(n); ++k) piece(s[0], s[k], s[k + 1]);
 }
 
@@ -263,7 +269,9 @@ void rasterize_triangle(const std::array<Vec4, 3>& clip, int width, int height, 
                                  l2 = detail::edge(v0, v1, px, py) / area;
                     const double depth = l0 * v0.z + l1 * v1.z + l2 * v2.z;
                     const double inv_w = l0 * v0.inv_w + l1 * v1.inv_w + l2 * v2.inv_w;
-                    const glm::dvec3 b = (l0 * v0.b_w + l1 * v1.b_w + l2 * v2.b_w) / inv_w;
+                    const glm::dvec3 b =
+                        (l0 * v0.inv_w * *v0.b + l1 * v1.inv_w * *v1.b + l2 * v2.inv_w * *v2.b) /
+                        inv_w;
                     visit(Fragment{x, y, depth, b});
                 }
             });
