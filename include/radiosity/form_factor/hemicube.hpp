@@ -60,27 +60,54 @@ inline Vec4 face_clip(const HemicubeFace& face, const std::array<double, 3>& a, 
     return {x, face.side ? 2.0 * a[2] - w : a[1], A * w + B, w};
 }
 
-/// Outcode of a point against one face's frustum (Cohen & Sutherland): one bit per plane it
-/// lies beyond (near, right, left, top, bottom), for clip x, y and depth axis w.
-inline unsigned outcode(double x, double y, double w, double near) {
-    return (w <= near ? 1u : 0u) | (x > w ? 2u : 0u) | (x < -w ? 4u : 0u) | (y > w ? 8u : 0u) |
-           (y < -w ? 16u : 0u);
-}
+/// The extent of a polygon in a hemicube's frame, for frustum culling (Cohen & Sutherland's
+/// outcodes, taken over all vertices at once): the least and greatest value over its vertices
+/// of u, v, n and of the sums and differences whose signs say on which side of each frustum
+/// plane a vertex lies. The five frusta share their planes: n = +-u and n = +-v bound the top
+/// face and top the side faces, u = +-v separate the side faces, n = 0 is the horizon.
+struct FrameExtent {
+    enum : std::size_t { u, v, n, u_minus_n, u_plus_n, v_minus_n, v_plus_n, v_minus_u, v_plus_u };
+    std::array<double, 9> lo, hi;
 
-/// Outcode against a side face, clip x and depth axis w: its top and bottom planes are
-/// y = 2 n - w = +-w, i.e. n = w (the top face's edge) and n = 0 (the horizon).
-inline unsigned side_outcode(double x, double w, double n, double near) {
-    return (w <= near ? 1u : 0u) | (x > w ? 2u : 0u) | (x < -w ? 4u : 0u) | (n > w ? 8u : 0u) |
-           (n < 0.0 ? 16u : 0u);
-}
+    /// The extent of one vertex (u, v, n).
+    explicit FrameExtent(const std::array<double, 3>& p) : lo(values(p)), hi(lo) {}
+    /// Widens the extent to hold vertex (u, v, n).
+    void add(const std::array<double, 3>& p) {
+        const std::array<double, 9> x = values(p);
+        for (std::size_t k = 0; k < 9; ++k) {
+            lo[k] = std::min(lo[k], x[k]);
+            hi[k] = std::max(hi[k], x[k]);
+        }
+    }
+    static std::array<double, 9> values(const std::array<double, 3>& p) {
+        const double a = p[0], b = p[1], c = p[2];
+        return {a, b, c, a - c, a + c, b - c, b + c, b - a, b + a};
+    }
 
-/// The outcodes of a point with frame coordinates (u, v, n) against all five faces, five bits
-/// per face in the order of hemicube_faces (the frusta of face_clip).
-inline unsigned face_outcodes(double u, double v, double n, double near) {
-    return outcode(u, v, n, near) | side_outcode(v, u, n, near) << 5 |
-           side_outcode(-v, -u, n, near) << 10 | side_outcode(-u, v, n, near) << 15 |
-           side_outcode(u, -v, n, near) << 20;
-}
+    /// Whether the polygon may show on face f of hemicube_faces: no plane of the face's
+    /// frustum (near w <= near, then x > w, x < -w, y > w, y < -w) has all vertices beyond it.
+    /// The sign of a rounded sum or difference is that of the exact one, so these tests are
+    /// those of the clip coordinates of face_clip.
+    bool may_show(std::size_t f, double near) const {
+        switch (f) {
+            case 0:  // top: x = u, y = v, w = n
+                return !(hi[n] <= near || lo[u_minus_n] > 0.0 || hi[u_plus_n] < 0.0 ||
+                         lo[v_minus_n] > 0.0 || hi[v_plus_n] < 0.0);
+            case 1:  // side along +u: x = v, w = u, top n = u, bottom n = 0
+                return !(hi[u] <= near || lo[v_minus_u] > 0.0 || hi[v_plus_u] < 0.0 ||
+                         hi[u_minus_n] < 0.0 || hi[n] < 0.0);
+            case 2:  // side along -u: x = -v, w = -u
+                return !(lo[u] >= -near || hi[v_minus_u] < 0.0 || lo[v_plus_u] > 0.0 ||
+                         lo[u_plus_n] > 0.0 || hi[n] < 0.0);
+            case 3:  // side along +v: x = -u, w = v
+                return !(hi[v] <= near || hi[v_plus_u] < 0.0 || hi[v_minus_u] < 0.0 ||
+                         hi[v_minus_n] < 0.0 || hi[n] < 0.0);
+            default:  // side along -v: x = u, w = -v
+                return !(lo[v] >= -near || lo[v_plus_u] > 0.0 || lo[v_minus_u] > 0.0 ||
+                         lo[v_plus_n] > 0.0 || hi[n] < 0.0);
+        }
+    }
+};
 
 /// What the five faces of one hemicube draw: every patch vertex in the hemicube's frame (its
 /// coordinates along u, v and n from the centre, computed once and shared by the five faces),
@@ -88,6 +115,14 @@ inline unsigned face_outcodes(double u, double v, double n, double near) {
 struct HemicubeView {
     std::array<std::vector<double>, 3> axis;  // [0]: u, [1]: v, [2]: n, one entry per vertex
     std::array<std::vector<std::uint32_t>, 5> patches;
+};
+
+/// The buffers of one hemicube, kept by each thread from row to row so that a row allocates
+/// and clears only what it must (rows are computed by the thousand).
+struct HemicubeWorkspace {
+    HemicubeView seen;
+    std::vector<double> F, depth;
+    std::vector<std::int32_t> id;
 };
 
 /// Two unit vectors completing n to a right-handed orthonormal frame (Duff et al. 2017).
@@ -147,13 +182,13 @@ class Hemicube {
     void row(std::size_t i, std::span<float> out) const {
         const PatchTable& t = table();
         if (out.size() != t.size()) throw Error("hemicube: row needs one entry per patch");
-        const detail::HemicubeView seen = view(i);
-        std::vector<double> F(t.size(), 0.0);
-        std::vector<std::int32_t> id;
-        std::vector<double> depth;
+        thread_local detail::HemicubeWorkspace work;
+        view(i, work.seen);
+        std::vector<double>& F = work.F;
+        F.assign(t.size(), 0.0);
         for (std::size_t k = 0; k < 5; ++k) {
-            item_buffer(seen, k, id, depth);
-            accumulate(k > 0 ? side_dff_ : top_dff_, id, F);
+            item_buffer(work.seen, k, work.id, work.depth);
+            accumulate(k > 0 ? side_prefix_ : top_prefix_, work.id, F);
         }
         // A patch seen from behind keeps its pixels (it occludes) but takes nothing: the light
         // that strikes its back is absorbed.
@@ -171,7 +206,8 @@ class Hemicube {
     std::array<std::vector<std::int32_t>, 5> item_buffers(std::size_t i) const {
         std::array<std::vector<std::int32_t>, 5> ids;
         std::vector<double> depth;
-        const detail::HemicubeView seen = view(i);
+        detail::HemicubeView seen;
+        view(i, seen);
         for (std::size_t k = 0; k < 5; ++k) item_buffer(seen, k, ids[k], depth);
         return ids;
     }
@@ -223,6 +259,11 @@ class Hemicube {
                     side_dff_[static_cast<std::size_t>(py * r + px)] = z * dA / (pi * s * s);
                 }
             }
+        for (auto [dff, prefix] :
+             {std::pair{&top_dff_, &top_prefix_}, {&side_dff_, &side_prefix_}}) {
+            prefix->assign(1, 0.0);
+            for (double d : *dff) prefix->push_back(prefix->back() + d);
+        }
     }
 
     /// The hemicube's frame at patch i: two tangents u, v and the normal n, turned about the
@@ -248,33 +289,30 @@ class Hemicube {
     /// a polygon whose vertices all lie beyond one plane of a face's frustum cannot cover a pixel
     /// of it; most patches lie in one or two of the five faces, so this skips most of the
     /// rasteriser's setup.
-    detail::HemicubeView view(std::size_t i) const {
+    void view(std::size_t i, detail::HemicubeView& seen) const {
         const PatchTable& t = table();
         const Vec3& c = t.centroid(i);
         const auto [u, v, n] = frame(i);
-        detail::HemicubeView seen;
         const std::size_t m = first_.back();
-        for (auto& a : seen.axis) a.resize(m);
+        for (auto& a : seen.axis) a.resize(m);  // entries are written before they are read
+        for (auto& list : seen.patches) list.clear();
         const Vec3* p = m > 0 ? t.polygon(0).data() : nullptr;  // all polygons, one array
         for (std::size_t j = 0; j < t.size(); ++j) {
             if (glm::dot(t.centroid(j) - c, n) + radius_[j] <= 0.0 || j == i) continue;
-            bool above = false;
-            unsigned outside = ~0u;
-            for (std::uint32_t k = first_[j]; k < first_[j + 1]; ++k) {
+            auto to_frame = [&](std::uint32_t k) {  // vertex k in the frame, kept for draw()
                 const Vec3 d = p[k] - c;
-                const double du = glm::dot(d, u), dv = glm::dot(d, v), dn = glm::dot(d, n);
-                seen.axis[0][k] = du;
-                seen.axis[1][k] = dv;
-                seen.axis[2][k] = dn;
-                above = above || dn > 0.0;
-                outside &= detail::face_outcodes(du, dv, dn, near_);
-            }
-            if (!above) continue;
+                seen.axis[0][k] = glm::dot(d, u);
+                seen.axis[1][k] = glm::dot(d, v);
+                seen.axis[2][k] = glm::dot(d, n);
+                return std::array<double, 3>{seen.axis[0][k], seen.axis[1][k], seen.axis[2][k]};
+            };
+            detail::FrameExtent extent(to_frame(first_[j]));
+            for (std::uint32_t k = first_[j] + 1; k < first_[j + 1]; ++k) extent.add(to_frame(k));
+            if (!(extent.hi[detail::FrameExtent::n] > 0.0)) continue;  // below the horizon
             for (std::size_t f = 0; f < 5; ++f)
-                if (((outside >> (5 * f)) & 31u) == 0u)
+                if (extent.may_show(f, near_))
                     seen.patches[f].push_back(static_cast<std::uint32_t>(j));
         }
-        return seen;
     }
 
     /// Projects patch j onto one face of the hemicube and draws it into the z-buffer.
@@ -310,25 +348,23 @@ class Hemicube {
     }
 
     /// Adds the delta form factor of every pixel to the patch seen there. Neighbouring pixels
-    /// mostly see the same patch: their sum is kept in a register and added to F once per run.
-    static void accumulate(const std::vector<double>& dff, const std::vector<std::int32_t>& id,
+    /// mostly see the same patch, so whole runs are added at once, each from the prefix sums of
+    /// the delta form factors (prefix[b] - prefix[a] for pixels a .. b - 1): no arithmetic per
+    /// pixel.
+    static void accumulate(const std::vector<double>& prefix, const std::vector<std::int32_t>& id,
                            std::vector<double>& F) {
-        std::int32_t run = -1;
-        double sum = 0.0;
-        for (std::size_t k = 0; k < id.size(); ++k) {
-            if (id[k] != run) {
-                if (run >= 0) F[static_cast<std::size_t>(run)] += sum;
-                run = id[k];
-                sum = 0.0;
-            }
-            sum += dff[k];
+        std::size_t start = 0;
+        for (std::size_t k = 1; k <= id.size(); ++k) {
+            if (k < id.size() && id[k] == id[start]) continue;
+            if (id[start] >= 0) F[static_cast<std::size_t>(id[start])] += prefix[k] - prefix[start];
+            start = k;
         }
-        if (run >= 0) F[static_cast<std::size_t>(run)] += sum;
     }
 
     HemicubeOptions options_;
     const PatchTable* patches_ = nullptr;
     std::vector<double> top_dff_, side_dff_;
+    std::vector<double> top_prefix_, side_prefix_;  // prefix[k]: sum of the first k dff
     std::vector<std::uint32_t> first_{0};  // patch j's vertices: first_[j] .. first_[j + 1] - 1
     std::vector<double> radius_;           // of a sphere about patch j's centroid holding it
     double near_ = 1e-7, far_ = 1.0, A_ = 1.0, B_ = 0.0;
