@@ -328,23 +328,25 @@ class Hemicube {
                 A_, B_);
         const auto index = static_cast<std::int32_t>(j);
         for (std::uint32_t k = 1; k + 1 < count; ++k)
-            rasterize_depth({p[0], p[k], p[k + 1]}, w, h, [&](const DepthSpan& s) {
-                // Locals, not references: the compiler cannot tell that the stores below leave
-                // them alone, and would load them again for every pixel.
-                const std::int32_t who = index;
-                const double z0 = s.z0, dzdx = s.dzdx;
-                const auto row = static_cast<std::size_t>(s.y * w);
-                double* const d = depth.data() + row;
-                std::int32_t* const item = id.data() + row;
-                double x = s.begin;  // pixel column as a double: no conversion per pixel
-                for (int px = s.begin; px < s.end; ++px, x += 1.0) {
-                    const double z = z0 + dzdx * x;
-                    if (z < d[px]) {
-                        d[px] = z;
-                        item[px] = who;
+            // Captures by value, not by reference: the compiler cannot tell that the stores
+            // below leave referenced values alone, and would load them again and again.
+            rasterize_depth(
+                {p[0], p[k], p[k + 1]}, w, h,
+                [zbuffer = depth.data(), items = id.data(), w, index](const DepthSpan& s) {
+                    const std::int32_t who = index;
+                    const double z0 = s.z0, dzdx = s.dzdx;
+                    const auto row = static_cast<std::size_t>(s.y * w);
+                    double* const d = zbuffer + row;
+                    std::int32_t* const item = items + row;
+                    double x = s.begin;  // pixel column as a double: no conversion per pixel
+                    for (int px = s.begin; px < s.end; ++px, x += 1.0) {
+                        const double z = z0 + dzdx * x;
+                        if (z < d[px]) {
+                            d[px] = z;
+                            item[px] = who;
+                        }
                     }
-                }
-            });
+                });
     }
 
     /// Adds the delta form factor of every pixel to the patch seen there. Neighbouring pixels

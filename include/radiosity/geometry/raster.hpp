@@ -301,11 +301,14 @@ void rasterize_depth(const std::array<Vec4, 3>& clip, int width, int height, Vis
             const double x2 = v2.x - v0.x, y2 = v2.y - v0.y, z2 = v2.z - v0.z;
             const double det = x1 * y2 - x2 * y1;
             if (det == 0.0 || !std::isfinite(det)) return;
-            const double dzdx = (z1 * y2 - z2 * y1) / det, dzdy = (z2 * x1 - z1 * x2) / det;
+            const double inv_det = 1.0 / det;
+            const double dzdx = (z1 * y2 - z2 * y1) * inv_det, dzdy = (z2 * x1 - z1 * x2) * inv_det;
             const double z0 = v0.z + dzdx * (0.5 - v0.x) + dzdy * (0.5 - v0.y);  // at pixel (0, 0)
-            detail::scan_triangle(v0, v1, v2, width, height, [&](int y, int begin, int end) {
-                visit(DepthSpan{y, begin, end, z0 + dzdy * y, dzdx});
-            });
+            // The plane by value: the caller's stores to its depth buffer cannot touch copies.
+            detail::scan_triangle(v0, v1, v2, width, height,
+                                  [&visit, z0, dzdx, dzdy](int y, int begin, int end) {
+                                      visit(DepthSpan{y, begin, end, z0 + dzdy * y, dzdx});
+                                  });
         });
 }
 
