@@ -100,9 +100,12 @@ inline int clip_triangle(const std::array<Vec4, 3>& clip, double g,
     return clip_polygon(tmp, n, poly, [g](const Vec4& p) { return g * p.w + p.y; });
 }
 
-/// Whether a clip-space vertex lies in front of the near plane and inside the guard band.
-inline bool inside_guard_band(const Vec4& p, double g) {
-    return p.z + p.w >= 0.0 && std::abs(p.x) <= g * p.w && std::abs(p.y) <= g * p.w;
+/// Whether a clip-space vertex lies in front of the near plane and inside the guard band of a
+/// raster whose longer side is `extent` pixels: |x/w|, |y/w| <= guard_pixels / extent, tested
+/// without a division (this runs for every vertex drawn).
+inline bool inside_guard_band(const Vec4& p, double extent) {
+    const double reach = guard_pixels * p.w;
+    return p.z + p.w >= 0.0 && std::abs(p.x) * extent <= reach && std::abs(p.y) * extent <= reach;
 }
 
 /// The guard band in clip space for a width x height raster: |x/w|, |y/w| <= g keeps every
@@ -224,9 +227,9 @@ void scan_triangle(const ScreenVertex& v0, const ScreenVertex& a, const ScreenVe
 /// skips the clipper.
 template <class Piece>
 void project_triangle(const std::array<Vec4, 3>& clip, int width, int height, Piece&& piece) {
-    const double g = guard_band(width, height);
-    if (inside_guard_band(clip[0], g) && inside_guard_band(clip[1], g) &&
-        inside_guard_band(clip[2], g)) {
+    const double extent = std::max(width, height);
+    if (inside_guard_band(clip[0], extent) && inside_guard_band(clip[1], extent) &&
+        inside_guard_band(clip[2], extent)) {
         static constexpr std::array<glm::dvec3, 3> corner{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
         piece(to_screen(clip[0], corner[0], width, height),
               to_screen(clip[1], corner[1], width, height),
@@ -234,7 +237,7 @@ void project_triangle(const std::array<Vec4, 3>& clip, int width, int height, Pi
         return;
     }
     std::array<ClipVertex, 8> poly;
-    const int n = clip_triangle(clip, g, poly);
+    const int n = clip_triangle(clip, guard_band(width, height), poly);
     if (n < 3) return;
     std::array<ScreenVertex, 8> s;
     for (int k = 0; k < n; ++k)
