@@ -168,14 +168,7 @@ class Hemicube {
         near_ = 1e-7 * diagonal;
         A_ = (far_ + near_) / (far_ - near_);  // z = A w + B: -w at the near plane, w at far
         B_ = -2.0 * far_ * near_ / (far_ - near_);
-        first_.assign(1, 0);
-        radius_.assign(patches.size(), 0.0);
-        for (std::size_t j = 0; j < patches.size(); ++j) {
-            first_.push_back(first_.back() + static_cast<std::uint32_t>(patches.polygon(j).size()));
-            for (const Vec3& p : patches.polygon(j))
-                radius_[j] = std::max(radius_[j], glm::length(p - patches.centroid(j)));
-            radius_[j] *= 1.0 + 1e-9;  // a bounding sphere despite rounding
-        }
+        index_patches(patches);
     }
 
     /// Row i: F_ij for every patch j, from the hemicube at the centroid of patch i (RowSource).
@@ -230,6 +223,19 @@ class Hemicube {
     const PatchTable& table() const {
         if (patches_ == nullptr) throw Error("hemicube: prepare() was not called");
         return *patches_;
+    }
+
+    /// Where each patch's vertices start in the table's one vertex array, and the radius of a
+    /// sphere about its centroid that holds it (to skip patches below a horizon at once).
+    void index_patches(const PatchTable& patches) {
+        first_.assign(1, 0);
+        radius_.assign(patches.size(), 0.0);
+        for (std::size_t j = 0; j < patches.size(); ++j) {
+            first_.push_back(first_.back() + static_cast<std::uint32_t>(patches.polygon(j).size()));
+            for (const Vec3& p : patches.polygon(j))
+                radius_[j] = std::max(radius_[j], glm::length(p - patches.centroid(j)));
+            radius_[j] *= 1.0 + 1e-9;  // a bounding sphere despite rounding
+        }
     }
 
     /// Draws the patches that may show on face k into its z-buffer, keeping the nearest patch
