@@ -30,11 +30,99 @@ struct HemicubeOptions {
 
 namespace detail {
 
-/// A frame at the hemicube's centre: right, up and forward axes of one of its five faces, in
-/// scene space, and the fraction of the face's height that lies above the patch's horizon.
+/// One of the hemicube's five faces, as a view of the hemicube's own frame (u, v, n): clip x is
+/// x_sign times the u or v coordinate, the depth axis w is w_sign times the u, v or n
+/// coordinate. The top face looks along n with y = v; a side face looks along u or v and maps
+/// its upper half (up = n in [0, w]) onto the whole raster, y = 2 n - w.
 struct HemicubeFace {
-    Vec3 right, up, forward;
-    bool side;  // side faces show only their upper half (above the patch's plane)
+    int x_axis;     // 0: u, 1: v
+    double x_sign;  // +1 or -1
+    int w_axis;     // 0: u, 1: v, 2: n
+    double w_sign;  // +1 or -1
+    bool side;      // side faces show only their upper half (above the patch's plane)
+};
+
+/// The five faces: the top (right u, up v, forward n) and the four sides, whose forward axes
+/// are u, -u, v and -v, up n, and right such that (right, up, forward) is right-handed.
+inline constexpr std::array<HemicubeFace, 5> hemicube_faces{{{0, 1.0, 2, 1.0, false},
+                                                             {1, 1.0, 0, 1.0, true},
+                                                             {1, -1.0, 0, -1.0, true},
+                                                             {0, -1.0, 1, 1.0, true},
+                                                             {0, 1.0, 1, -1.0, true}}};
+
+/// Clip coordinates (x, y, z, w) of a point with frame coordinates (u, v, n) on one face: the
+/// top face shows (u, v) looking along n; a side face maps its upper half (up = n in [0, w])
+/// onto the whole raster, y = 2 n - w. z = A w + B is the perspective depth.
+inline Vec4 face_clip(const HemicubeFace& face, const std::array<double, 3>& a, double A,
+                      double B) {
+    const double x = face.x_sign * a[static_cast<std::size_t>(face.x_axis)];
+    const double w = face.w_sign * a[static_cast<std::size_t>(face.w_axis)];
+    return {x, face.side ? 2.0 * a[2] - w : a[1], A * w + B, w};
+}
+
+/// The extent of a polygon in a hemicube's frame, for frustum culling (Cohen & Sutherland's
+/// outcodes, taken over all vertices at once): the least and greatest value over its vertices
+/// of u, v, n and of the sums and differences whose signs say on which side of each frustum
+/// plane a vertex lies. The five frusta share their planes: n = +-u and n = +-v bound the top
+/// face and top the side faces, u = +-v separate the side faces, n = 0 is the horizon.
+struct FrameExtent {
+    enum : std::size_t { u, v, n, u_minus_n, u_plus_n, v_minus_n, v_plus_n, v_minus_u, v_plus_u };
+    std::array<double, 9> lo, hi;
+
+    /// The extent of one vertex (u, v, n).
+    explicit FrameExtent(const std::array<double, 3>& p) : lo(values(p)), hi(lo) {}
+    /// Widens the extent to hold vertex (u, v, n).
+    void add(const std::array<double, 3>& p) {
+        const std::array<double, 9> x = values(p);
+        for (std::size_t k = 0; k < 9; ++k) {
+            lo[k] = std::min(lo[k], x[k]);
+            hi[k] = std::max(hi[k], x[k]);
+        }
+    }
+    static std::array<double, 9> values(const std::array<double, 3>& p) {
+        const double a = p[0], b = p[1], c = p[2];
+        return {a, b, c, a - c, a + c, b - c, b + c, b - a, b + a};
+    }
+
+    /// Whether the polygon may show on face f of hemicube_faces: no plane of the face's
+    /// frustum (near w <= near, then x > w, x < -w, y > w, y < -w) has all vertices beyond it.
+    /// The sign of a rounded sum or difference is that of the exact one, so these tests are
+    /// those of the clip coordinates of face_clip.
+    bool may_show(std::size_t f, double near) const {
+        switch (f) {
+            case 0:  // top: x = u, y = v, w = n
+                return !(hi[n] <= near || lo[u_minus_n] > 0.0 || hi[u_plus_n] < 0.0 ||
+                         lo[v_minus_n] > 0.0 || hi[v_plus_n] < 0.0);
+            case 1:  // side along +u: x = v, w = u, top n = u, bottom n = 0
+                return !(hi[u] <= near || lo[v_minus_u] > 0.0 || hi[v_plus_u] < 0.0 ||
+                         hi[u_minus_n] < 0.0 || hi[n] < 0.0);
+            case 2:  // side along -u: x = -v, w = -u
+                return !(lo[u] >= -near || hi[v_minus_u] < 0.0 || lo[v_plus_u] > 0.0 ||
+                         lo[u_plus_n] > 0.0 || hi[n] < 0.0);
+            case 3:  // side along +v: x = -u, w = v
+                return !(hi[v] <= near || hi[v_plus_u] < 0.0 || hi[v_minus_u] < 0.0 ||
+                         hi[v_minus_n] < 0.0 || hi[n] < 0.0);
+            default:  // side along -v: x = u, w = -v
+                return !(lo[v] >= -near || lo[v_plus_u] > 0.0 || lo[v_minus_u] > 0.0 ||
+                         lo[v_plus_n] > 0.0 || hi[n] < 0.0);
+        }
+    }
+};
+
+/// What the five faces of one hemicube draw: every patch vertex in the hemicube's frame (its
+/// coordinates along u, v and n from the centre, computed once and shared by the five faces),
+/// and, per face and in index order, the patches that may show on it.
+struct HemicubeView {
+    std::array<std::vector<double>, 3> axis;  // [0]: u, [1]: v, [2]: n, one entry per vertex
+    std::array<std::vector<std::uint32_t>, 5> patches;
+};
+
+/// The buffers of one hemicube, kept by each thread from row to row so that a row allocates
+/// and clears only what it must (rows are computed by the thousand).
+struct HemicubeWorkspace {
+    HemicubeView seen;
+    std::vector<double> F, depth;
+    std::vector<std::int32_t> id;
 };
 
 /// Two unit vectors completing n to a right-handed orthonormal frame (Duff et al. 2017).
@@ -78,20 +166,30 @@ class Hemicube {
         const double diagonal = patches.size() > 0 ? glm::length(hi - lo) : 1.0;
         far_ = 2.0 * diagonal;
         near_ = 1e-7 * diagonal;
+        A_ = (far_ + near_) / (far_ - near_);  // z = A w + B: -w at the near plane, w at far
+        B_ = -2.0 * far_ * near_ / (far_ - near_);
+        index_patches(patches);
     }
 
     /// Row i: F_ij for every patch j, from the hemicube at the centroid of patch i (RowSource).
     void row(std::size_t i, std::span<float> out) const {
         const PatchTable& t = table();
         if (out.size() != t.size()) throw Error("hemicube: row needs one entry per patch");
-        std::vector<double> F(t.size(), 0.0);
-        std::vector<std::int32_t> id;
-        std::vector<double> depth;
-        for (const detail::HemicubeFace& face : faces(i)) {
-            item_buffer(i, face, id, depth);
-            accumulate(i, face.side ? side_dff_ : top_dff_, id, F);
+        thread_local detail::HemicubeWorkspace work;
+        view(i, work.seen);
+        std::vector<double>& F = work.F;
+        F.assign(t.size(), 0.0);
+        for (std::size_t k = 0; k < 5; ++k) {
+            item_buffer(work.seen, k, work.id, work.depth);
+            accumulate(k > 0 ? side_prefix_ : top_prefix_, work.id, F);
         }
-        for (std::size_t j = 0; j < t.size(); ++j) out[j] = static_cast<float>(F[j]);
+        // A patch seen from behind keeps its pixels (it occludes) but takes nothing: the light
+        // that strikes its back is absorbed.
+        const Vec3& c = t.centroid(i);
+        for (std::size_t j = 0; j < t.size(); ++j) {
+            const bool front = glm::dot(c - t.centroid(j), t.normal(j)) > 0.0;
+            out[j] = front ? static_cast<float>(F[j]) : 0.0f;
+        }
     }
 
     /// The item buffers of patch i's hemicube, for teaching and debugging: for the top face and
@@ -101,8 +199,9 @@ class Hemicube {
     std::array<std::vector<std::int32_t>, 5> item_buffers(std::size_t i) const {
         std::array<std::vector<std::int32_t>, 5> ids;
         std::vector<double> depth;
-        const auto f = faces(i);
-        for (std::size_t k = 0; k < 5; ++k) item_buffer(i, f[k], ids[k], depth);
+        detail::HemicubeView seen;
+        view(i, seen);
+        for (std::size_t k = 0; k < 5; ++k) item_buffer(seen, k, ids[k], depth);
         return ids;
     }
     /// Delta form factor of each top-face pixel, row after row.
@@ -126,15 +225,28 @@ class Hemicube {
         return *patches_;
     }
 
-    /// Draws every other patch into one face's z-buffer, keeping the nearest patch per pixel.
-    void item_buffer(std::size_t i, const detail::HemicubeFace& face, std::vector<std::int32_t>& id,
+    /// Where each patch's vertices start in the table's one vertex array, and the radius of a
+    /// sphere about its centroid that holds it (to skip patches below a horizon at once).
+    void index_patches(const PatchTable& patches) {
+        first_.assign(1, 0);
+        radius_.assign(patches.size(), 0.0);
+        for (std::size_t j = 0; j < patches.size(); ++j) {
+            first_.push_back(first_.back() + static_cast<std::uint32_t>(patches.polygon(j).size()));
+            for (const Vec3& p : patches.polygon(j))
+                radius_[j] = std::max(radius_[j], glm::length(p - patches.centroid(j)));
+            radius_[j] *= 1.0 + 1e-9;  // a bounding sphere despite rounding
+        }
+    }
+
+    /// Draws the patches that may show on face k into its z-buffer, keeping the nearest patch
+    /// per pixel.
+    void item_buffer(const detail::HemicubeView& seen, std::size_t k, std::vector<std::int32_t>& id,
                      std::vector<double>& depth) const {
-        const PatchTable& t = table();
+        const detail::HemicubeFace& face = detail::hemicube_faces[k];
         const int w = options_.resolution, h = face.side ? w / 2 : w;
         id.assign(static_cast<std::size_t>(w * h), -1);
         depth.assign(id.size(), std::numeric_limits<double>::infinity());
-        for (std::size_t j = 0; j < t.size(); ++j)
-            if (j != i) draw(j, t.centroid(i), face, w, h, id, depth);
+        for (const std::uint32_t j : seen.patches[k]) draw(j, seen, face, w, h, id, depth);
     }
 
     /// The delta form factors of each pixel (the equations above), computed once.
@@ -153,10 +265,16 @@ class Hemicube {
                     side_dff_[static_cast<std::size_t>(py * r + px)] = z * dA / (pi * s * s);
                 }
             }
+        for (auto [dff, prefix] :
+             {std::pair{&top_dff_, &top_prefix_}, {&side_dff_, &side_prefix_}}) {
+            prefix->assign(1, 0.0);
+            for (double d : *dff) prefix->push_back(prefix->back() + d);
+        }
     }
 
-    /// The five faces of the hemicube of patch i, turned about the normal by a per-patch angle.
-    std::array<detail::HemicubeFace, 5> faces(std::size_t i) const {
+    /// The hemicube's frame at patch i: two tangents u, v and the normal n, turned about the
+    /// normal by a per-patch angle.
+    std::array<Vec3, 3> frame(std::size_t i) const {
         const Vec3 n = table().normal(i);
         Vec3 u, v;
         detail::orthonormal_basis(n, u, v);
@@ -167,65 +285,97 @@ class Hemicube {
             v = glm::cross(n, u2);
             u = u2;
         }
-        return {{{u, v, n, false},
-                 {v, n, u, true},
-                 {-v, n, -u, true},
-                 {-u, n, v, true},
-                 {u, n, -v, true}}};
+        return {u, v, n};
     }
 
-    /// Projects patch j onto one face of the hemicube centred at c and draws it into the
-    /// z-buffer: clip coordinates (x, y, z, w) = (right, up, depth, forward) for the top face;
-    /// side faces map the upper half (up in [0, forward]) onto the whole raster.
-    void draw(std::size_t j, const Vec3& c, const detail::HemicubeFace& face, int w, int h,
-              std::vector<std::int32_t>& id, std::vector<double>& depth) const {
-        const auto poly = table().polygon(j);
-        const double A = (far_ + near_) / (far_ - near_), B = -2.0 * far_ * near_ / (far_ - near_);
-        std::array<Vec4, 16> clip;
-        std::vector<Vec4> big;
-        Vec4* p = poly.size() <= clip.size() ? clip.data() : (big.resize(poly.size()), big.data());
-        // Frustum culling by outcodes (Cohen & Sutherland): a polygon whose vertices are all
-        // beyond one plane of the face's frustum cannot cover a pixel. Most patches lie in
-        // one or two of the five faces, so this skips most of the rasteriser's setup.
-        unsigned outside = ~0u;
-        for (std::size_t k = 0; k < poly.size(); ++k) {
-            const Vec3 d = poly[k] - c;
-            const double x = glm::dot(d, face.right), y = glm::dot(d, face.up);
-            const double f = glm::dot(d, face.forward);
-            p[k] = Vec4(x, face.side ? 2.0 * y - f : y, A * f + B, f);
-            const double X = p[k].x, Y = p[k].y, W = p[k].w;
-            outside &= (W <= near_ ? 1u : 0u) | (X > W ? 2u : 0u) | (X < -W ? 4u : 0u) |
-                       (Y > W ? 8u : 0u) | (Y < -W ? 16u : 0u);
-        }
-        if (outside != 0u) return;
-        const auto index = static_cast<std::int32_t>(j);
-        for (std::size_t k = 1; k + 1 < poly.size(); ++k)
-            rasterize_triangle({p[0], p[k], p[k + 1]}, w, h, [&](const Fragment& frag) {
-                const auto at = static_cast<std::size_t>(frag.y * w + frag.x);
-                if (frag.depth < depth[at]) {
-                    depth[at] = frag.depth;
-                    id[at] = index;
-                }
-            });
-    }
-
-    /// Adds the delta form factor of every pixel to the patch seen there, if it shows patch i
-    /// its front; a patch seen from behind keeps its pixels (it occludes) but takes nothing.
-    void accumulate(std::size_t i, const std::vector<double>& dff,
-                    const std::vector<std::int32_t>& id, std::vector<double>& F) const {
+    /// The vertices of the patches above the horizon of patch i in the frame of its hemicube
+    /// (one transform per vertex, not one per face), and the patches that may show on each face.
+    /// A patch whose bounding sphere lies below the horizon shows on no face (every face looks
+    /// into n > 0), and is skipped before its vertices are touched. Frustum culling by outcodes:
+    /// a polygon whose vertices all lie beyond one plane of a face's frustum cannot cover a pixel
+    /// of it; most patches lie in one or two of the five faces, so this skips most of the
+    /// rasteriser's setup.
+    void view(std::size_t i, detail::HemicubeView& seen) const {
         const PatchTable& t = table();
         const Vec3& c = t.centroid(i);
-        for (std::size_t k = 0; k < id.size(); ++k) {
-            if (id[k] < 0) continue;
-            const auto j = static_cast<std::size_t>(id[k]);
-            if (glm::dot(c - t.centroid(j), t.normal(j)) > 0.0) F[j] += dff[k];
+        const auto [u, v, n] = frame(i);
+        const std::size_t m = first_.back();
+        for (auto& a : seen.axis) a.resize(m);  // entries are written before they are read
+        for (auto& list : seen.patches) list.clear();
+        const Vec3* p = m > 0 ? t.polygon(0).data() : nullptr;  // all polygons, one array
+        for (std::size_t j = 0; j < t.size(); ++j) {
+            if (glm::dot(t.centroid(j) - c, n) + radius_[j] <= 0.0 || j == i) continue;
+            auto to_frame = [&](std::uint32_t k) {  // vertex k in the frame, kept for draw()
+                const Vec3 d = p[k] - c;
+                seen.axis[0][k] = glm::dot(d, u);
+                seen.axis[1][k] = glm::dot(d, v);
+                seen.axis[2][k] = glm::dot(d, n);
+                return std::array<double, 3>{seen.axis[0][k], seen.axis[1][k], seen.axis[2][k]};
+            };
+            detail::FrameExtent extent(to_frame(first_[j]));
+            for (std::uint32_t k = first_[j] + 1; k < first_[j + 1]; ++k) extent.add(to_frame(k));
+            if (!(extent.hi[detail::FrameExtent::n] > 0.0)) continue;  // below the horizon
+            for (std::size_t f = 0; f < 5; ++f)
+                if (extent.may_show(f, near_))
+                    seen.patches[f].push_back(static_cast<std::uint32_t>(j));
+        }
+    }
+
+    /// Projects patch j onto one face of the hemicube and draws it into the z-buffer.
+    void draw(std::uint32_t j, const detail::HemicubeView& seen, const detail::HemicubeFace& face,
+              int w, int h, std::vector<std::int32_t>& id, std::vector<double>& depth) const {
+        const std::uint32_t first = first_[j], count = first_[j + 1] - first;
+        std::array<Vec4, 16> clip;
+        std::vector<Vec4> big;
+        Vec4* p = count <= clip.size() ? clip.data() : (big.resize(count), big.data());
+        for (std::uint32_t k = 0; k < count; ++k)
+            p[k] = detail::face_clip(
+                face, {seen.axis[0][first + k], seen.axis[1][first + k], seen.axis[2][first + k]},
+                A_, B_);
+        const auto index = static_cast<std::int32_t>(j);
+        for (std::uint32_t k = 1; k + 1 < count; ++k)
+            // Captures by value, not by reference: the compiler cannot tell that the stores
+            // below leave referenced values alone, and would load them again and again.
+            rasterize_depth(
+                {p[0], p[k], p[k + 1]}, w, h,
+                [zbuffer = depth.data(), items = id.data(), w, index](const DepthSpan& s) {
+                    const std::int32_t who = index;
+                    const double z0 = s.z0, dzdx = s.dzdx;
+                    const auto row = static_cast<std::size_t>(s.y * w);
+                    double* const d = zbuffer + row;
+                    std::int32_t* const item = items + row;
+                    double x = s.begin;  // pixel column as a double: no conversion per pixel
+                    for (int px = s.begin; px < s.end; ++px, x += 1.0) {
+                        const double z = z0 + dzdx * x;
+                        if (z < d[px]) {
+                            d[px] = z;
+                            item[px] = who;
+                        }
+                    }
+                });
+    }
+
+    /// Adds the delta form factor of every pixel to the patch seen there. Neighbouring pixels
+    /// mostly see the same patch, so whole runs are added at once, each from the prefix sums of
+    /// the delta form factors (prefix[b] - prefix[a] for pixels a .. b - 1): no arithmetic per
+    /// pixel.
+    static void accumulate(const std::vector<double>& prefix, const std::vector<std::int32_t>& id,
+                           std::vector<double>& F) {
+        std::size_t start = 0;
+        for (std::size_t k = 1; k <= id.size(); ++k) {
+            if (k < id.size() && id[k] == id[start]) continue;
+            if (id[start] >= 0) F[static_cast<std::size_t>(id[start])] += prefix[k] - prefix[start];
+            start = k;
         }
     }
 
     HemicubeOptions options_;
     const PatchTable* patches_ = nullptr;
     std::vector<double> top_dff_, side_dff_;
-    double near_ = 1e-7, far_ = 1.0;
+    std::vector<double> top_prefix_, side_prefix_;  // prefix[k]: sum of the first k dff
+    std::vector<std::uint32_t> first_{0};  // patch j's vertices: first_[j] .. first_[j + 1] - 1
+    std::vector<double> radius_;           // of a sphere about patch j's centroid holding it
+    double near_ = 1e-7, far_ = 1.0, A_ = 1.0, B_ = 0.0;
 };
 
 static_assert(FormFactorMethod<Hemicube>);

@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 
 namespace radiosity {
 
@@ -41,6 +42,18 @@ inline glm::dmat4 perspective(double fov_y_radians, double aspect, double near, 
 
 namespace detail {
 
+/// Fixed-point screen coordinates with 8 fractional bits (1/256 pixel), as in hardware
+/// rasterisers: edge functions of snapped vertices are exact integers, so two triangles sharing
+/// an edge agree on every pixel centre, and stepping from one pixel to the next adds integers
+/// without rounding (Pineda 1988; Olano & Greer 1997).
+inline constexpr int subpixel_bits = 8;
+inline constexpr std::int64_t subpixels = std::int64_t{1} << subpixel_bits;
+
+/// The guard band: vertices may lie this many pixels beyond the raster before their polygon is
+/// clipped to it, so that coordinates keep below 2^28 subpixels and edge functions (products of
+/// two coordinate differences) below 2^59, inside 64-bit integers.
+inline constexpr double guard_pixels = 1 << 20;
+
 /// A clip-space vertex carrying its barycentric weights with respect to the original triangle,
 /// so that clipped pieces still interpolate the original vertices' attributes.
 struct ClipVertex {
@@ -48,36 +61,80 @@ struct ClipVertex {
     glm::dvec3 b;
 };
 
-/// Clips a convex polygon to the near plane z + w >= 0 (Sutherland & Hodgman 1974, done in
-/// homogeneous coordinates so that nothing behind the eye is ever divided by w). A triangle
-/// becomes at most a quadrilateral. Returns the vertex count written into out.
-inline int clip_near(const std::array<ClipVertex, 3>& in, std::array<ClipVertex, 4>& out) {
-    int n = 0;
-    for (int k = 0; k < 3; ++k) {
-        const ClipVertex& a = in[k];
-        const ClipVertex& c = in[(k + 1) % 3];
-        const double da = a.p.z + a.p.w, dc = c.p.z + c.p.w;
-        if (da >= 0.0) out[n++] = a;
+/// Clips a convex polygon of n vertices to the half space distance(p) >= 0 (Sutherland &
+/// Hodgman 1974), in homogeneous coordinates so that nothing behind the eye is ever divided by
+/// w. A crossing edge is always cut from its inside end, so the two triangles sharing an edge
+/// get bit-identical new vertices (no cracks). Returns the vertex count written into out.
+template <std::size_t N, class Distance>
+int clip_polygon(const std::array<ClipVertex, N>& in, int n, std::array<ClipVertex, N>& out,
+                 Distance&& distance) {
+    int m = 0;
+    for (int k = 0; k < n; ++k) {
+        const ClipVertex& a = in[static_cast<std::size_t>(k)];
+        const ClipVertex& c = in[static_cast<std::size_t>((k + 1) % n)];
+        const double da = distance(a.p), dc = distance(c.p);
+        if (da >= 0.0) out[static_cast<std::size_t>(m++)] = a;
         if ((da >= 0.0) != (dc >= 0.0)) {
-            const double t = da / (da - dc);
-            out[n++] = {a.p + (c.p - a.p) * t, a.b + (c.b - a.b) * t};
+            const ClipVertex& i = da >= 0.0 ? a : c;  // inside end
+            const ClipVertex& o = da >= 0.0 ? c : a;
+            const double di = std::max(da, dc), d_o = std::min(da, dc);
+            const double t = di / (di - d_o);
+            out[static_cast<std::size_t>(m++)] = {i.p + (o.p - i.p) * t, i.b + (o.b - i.b) * t};
         }
     }
-    return n;
+    return m;
+}
+
+/// Clips a triangle to the near plane z + w >= 0 and to the guard band |x|, |y| <= g w. A
+/// triangle becomes a polygon of at most 8 vertices. Returns the vertex count.
+inline int clip_triangle(const std::array<Vec4, 3>& clip, double g,
+                         std::array<ClipVertex, 8>& poly) {
+    std::array<ClipVertex, 8> tmp;
+    tmp[0] = {clip[0], {1, 0, 0}};
+    tmp[1] = {clip[1], {0, 1, 0}};
+    tmp[2] = {clip[2], {0, 0, 1}};
+    int n = clip_polygon(tmp, 3, poly, [](const Vec4& p) { return p.z + p.w; });
+    n = clip_polygon(poly, n, tmp, [g](const Vec4& p) { return g * p.w - p.x; });
+    n = clip_polygon(tmp, n, poly, [g](const Vec4& p) { return g * p.w + p.x; });
+    n = clip_polygon(poly, n, tmp, [g](const Vec4& p) { return g * p.w - p.y; });
+    return clip_polygon(tmp, n, poly, [g](const Vec4& p) { return g * p.w + p.y; });
+}
+
+/// Whether a clip-space vertex lies in front of the near plane and inside the guard band of a
+/// raster whose longer side is `extent` pixels: |x/w|, |y/w| <= guard_pixels / extent, tested
+/// without a division (this runs for every vertex drawn).
+inline bool inside_guard_band(const Vec4& p, double extent) {
+    const double reach = guard_pixels * p.w;
+    return p.z + p.w >= 0.0 && std::abs(p.x) * extent <= reach && std::abs(p.y) * extent <= reach;
+}
+
+/// The guard band in clip space for a width x height raster: |x/w|, |y/w| <= g keeps every
+/// vertex within guard_pixels of the raster.
+inline double guard_band(int width, int height) {
+    return guard_pixels / std::max(width, height);
 }
 
 /// A vertex after the perspective division and the viewport transform.
 struct ScreenVertex {
-    double x, y;     // pixel coordinates, y down
-    double z;        // z / w
-    double inv_w;    // 1 / w, for perspective-correct interpolation
-    glm::dvec3 b_w;  // barycentric weights divided by w
+    double x, y;          // pixel coordinates, y down
+    double z;             // z / w
+    double inv_w;         // 1 / w, for perspective-correct interpolation
+    std::int64_t sx, sy;  // x and y in fixed point (subpixels), rounded to nearest
+    const glm::dvec3* b;  // barycentric weights of the original triangle's vertices
 };
 
-inline ScreenVertex to_screen(const ClipVertex& v, int width, int height) {
-    const double iw = 1.0 / v.p.w;
-    return {(v.p.x * iw * 0.5 + 0.5) * width, (0.5 - v.p.y * iw * 0.5) * height, v.p.z * iw, iw,
-            v.b * iw};
+/// Rounds a pixel coordinate (within the guard band) to fixed point, to nearest, without a
+/// branch: shifted by 2^31 subpixels it is positive, where truncation rounds down.
+inline std::int64_t to_subpixels(double x) {
+    constexpr double offset = 0x1p31;
+    return static_cast<std::int64_t>(x * static_cast<double>(subpixels) + (offset + 0.5)) -
+           static_cast<std::int64_t>(offset);
+}
+
+inline ScreenVertex to_screen(const Vec4& p, const glm::dvec3& b, int width, int height) {
+    const double iw = 1.0 / p.w;
+    const double x = (p.x * iw * 0.5 + 0.5) * width, y = (0.5 - p.y * iw * 0.5) * height;
+    return {x, y, p.z * iw, iw, to_subpixels(x), to_subpixels(y), &b};
 }
 
 /// Edge function of the directed edge a -> b at point (x, y): twice the signed area of the
@@ -86,67 +143,176 @@ inline double edge(const ScreenVertex& a, const ScreenVertex& b, double x, doubl
     return (b.x - a.x) * (y - a.y) - (b.y - a.y) * (x - a.x);
 }
 
+/// The same in fixed point, exact: at (x, y) in subpixels.
+inline std::int64_t edge(const ScreenVertex& a, const ScreenVertex& b, std::int64_t x,
+                         std::int64_t y) {
+    return (b.sx - a.sx) * (y - a.sy) - (b.sy - a.sy) * (x - a.sx);
+}
+
 /// Top-left rule: a pixel centre exactly on an edge belongs to only one of the two triangles
 /// sharing that edge, so neighbouring patches neither overlap nor leave cracks (each pixel of a
 /// hemicube is counted once). With both triangles oriented alike, the shared edge runs in
 /// opposite directions, and exactly one direction passes this test.
 inline bool owns_edge(const ScreenVertex& a, const ScreenVertex& b) {
-    const double dy = b.y - a.y, dx = b.x - a.x;
-    return dy > 0.0 || (dy == 0.0 && dx < 0.0);
+    const std::int64_t dy = b.sy - a.sy, dx = b.sx - a.sx;
+    return dy > 0 || (dy == 0 && dx < 0);
 }
 
-/// Scan-converts one screen-space triangle over its clamped bounding box.
-template <class Visit>
-void fill_triangle(ScreenVertex v0, ScreenVertex v1, ScreenVertex v2, int width, int height,
-                   Visit&& visit) {
-    double area = edge(v0, v1, v2.x, v2.y);
-    if (area == 0.0 || !std::isfinite(area)) return;  // seen edge-on: covers no pixel
-    if (area < 0.0) {  // orient consistently; both windings are drawn (no culling)
-        std::swap(v1, v2);
-        area = -area;
-    }
-    const int x0 = std::max(0, static_cast<int>(std::floor(std::min({v0.x, v1.x, v2.x}))));
-    const int x1 = std::min(width - 1, static_cast<int>(std::ceil(std::max({v0.x, v1.x, v2.x}))));
-    const int y0 = std::max(0, static_cast<int>(std::floor(std::min({v0.y, v1.y, v2.y}))));
-    const int y1 = std::min(height - 1, static_cast<int>(std::ceil(std::max({v0.y, v1.y, v2.y}))));
-    const bool own0 = owns_edge(v1, v2), own1 = owns_edge(v2, v0), own2 = owns_edge(v0, v1);
+/// One edge function of a triangle set up for stepping: its value at the current pixel centre,
+/// lowered by 1 where the edge is not owned so that "covered" is simply value >= 0, and its
+/// increments per pixel to the right and per row down.
+struct EdgeStepper {
+    std::int64_t value, step_x, step_y;
+};
+
+inline EdgeStepper edge_stepper(const ScreenVertex& a, const ScreenVertex& b, std::int64_t x,
+                                std::int64_t y) {
+    return {edge(a, b, x, y) - (owns_edge(a, b) ? 0 : 1), -(b.sy - a.sy) * subpixels,
+            (b.sx - a.sx) * subpixels};
+}
+
+/// Scan-converts one screen-space triangle: calls span(y, begin, end) for every row y with
+/// pixels begin .. end - 1 covered (their centres inside; a triangle is convex, so a row covers
+/// one run). The three edge functions are exact integers, stepped by additions across the
+/// triangle's bounding box; a pixel is covered when none is negative, i.e. when their bitwise
+/// or is not negative. A row stops at the end of its run.
+template <class Span>
+void scan_triangle(const ScreenVertex& v0, const ScreenVertex& a, const ScreenVertex& b, int width,
+                   int height, Span&& span) {
+    const std::int64_t area = edge(v0, a, b.sx, b.sy);
+    if (area == 0) return;  // seen edge-on: covers no pixel
+    // Oriented consistently (positive area); both windings are drawn (no culling).
+    const ScreenVertex& v1 = area > 0 ? a : b;
+    const ScreenVertex& v2 = area > 0 ? b : a;
+    // Pixel x covers the centre x + 1/2: the columns and rows whose centres lie in the box.
+    constexpr std::int64_t half = subpixels / 2;
+    auto first = [](std::int64_t lo) { return -((half - lo) >> subpixel_bits); };  // ceil
+    auto last = [](std::int64_t hi) { return (hi - half) >> subpixel_bits; };      // floor
+    const auto x0 =
+        static_cast<int>(std::max<std::int64_t>(0, first(std::min({v0.sx, v1.sx, v2.sx}))));
+    const auto x1 =
+        static_cast<int>(std::min<std::int64_t>(width - 1, last(std::max({v0.sx, v1.sx, v2.sx}))));
+    const auto y0 =
+        static_cast<int>(std::max<std::int64_t>(0, first(std::min({v0.sy, v1.sy, v2.sy}))));
+    const auto y1 =
+        static_cast<int>(std::min<std::int64_t>(height - 1, last(std::max({v0.sy, v1.sy, v2.sy}))));
+    if (x0 > x1 || y0 > y1) return;
+    const std::int64_t px = x0 * subpixels + half, py = y0 * subpixels + half;
+    EdgeStepper e0 = edge_stepper(v1, v2, px, py), e1 = edge_stepper(v2, v0, px, py),
+                e2 = edge_stepper(v0, v1, px, py);
     for (int y = y0; y <= y1; ++y) {
-        const double py = y + 0.5;
-        for (int x = x0; x <= x1; ++x) {
-            const double px = x + 0.5;
-            const double e0 = edge(v1, v2, px, py), e1 = edge(v2, v0, px, py),
-                         e2 = edge(v0, v1, px, py);
-            if (e0 < 0.0 || e1 < 0.0 || e2 < 0.0) continue;
-            if ((e0 == 0.0 && !own0) || (e1 == 0.0 && !own1) || (e2 == 0.0 && !own2)) continue;
-            // Screen-space weights l_k are linear in x, y; z/w is too, but attributes are not:
-            // interpolate b/w and 1/w, and divide (perspective-correct interpolation).
-            const double l0 = e0 / area, l1 = e1 / area, l2 = e2 / area;
-            const double depth = l0 * v0.z + l1 * v1.z + l2 * v2.z;
-            const double inv_w = l0 * v0.inv_w + l1 * v1.inv_w + l2 * v2.inv_w;
-            const glm::dvec3 b = (l0 * v0.b_w + l1 * v1.b_w + l2 * v2.b_w) / inv_w;
-            visit(Fragment{x, y, depth, b});
+        std::int64_t a = e0.value, b = e1.value, c = e2.value;
+        int x = x0;
+        for (; x <= x1 && (a | b | c) < 0; ++x) {  // up to the run of covered pixels
+            a += e0.step_x;
+            b += e1.step_x;
+            c += e2.step_x;
         }
+        const int begin = x;
+        for (; x <= x1 && (a | b | c) >= 0; ++x) {  // to its end
+            a += e0.step_x;
+            b += e1.step_x;
+            c += e2.step_x;
+        }
+        if (x > begin) span(y, begin, x);
+        e0.value += e0.step_y;
+        e1.value += e1.step_y;
+        e2.value += e2.step_y;
     }
+}
+
+/// Clips a clip-space triangle (near plane, guard band), projects it, and scan-converts the
+/// pieces: calls piece(s0, s1, s2) for each screen triangle of the clipped polygon's fan. A
+/// triangle wholly in front of the near plane and inside the guard band (the usual case)
+/// skips the clipper.
+template <class Piece>
+void project_triangle(const std::array<Vec4, 3>& clip, int width, int height, Piece&& piece) {
+    const double extent = std::max(width, height);
+    if (inside_guard_band(clip[0], extent) && inside_guard_band(clip[1], extent) &&
+        inside_guard_band(clip[2], extent)) {
+        static constexpr std::array<glm::dvec3, 3> corner{{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+        piece(to_screen(clip[0], corner[0], width, height),
+              to_screen(clip[1], corner[1], width, height),
+              to_screen(clip[2], corner[2], width, height));
+        return;
+    }
+    std::array<ClipVertex, 8> poly;
+    const int n = clip_triangle(clip, guard_band(width, height), poly);
+    if (n < 3) return;
+    std::array<ScreenVertex, 8> s;
+    for (int k = 0; k < n; ++k)
+        s[static_cast<std::size_t>(k)] =
+            to_screen(poly[static_cast<std::size_t>(k)].p, poly[static_cast<std::size_t>(k)].b,
+                      width, height);
+    for (std::size_t k = 1; k + 1 < static_cast<std::size_t>(n); ++k) piece(s[0], s[k], s[k + 1]);
 }
 
 }  // namespace detail
 
-/// Rasterises one triangle given in clip space into a width x height raster: clips it to the
-/// near plane, divides by w, and calls visit(Fragment) for every pixel whose centre it covers
-/// (top-left rule on shared edges). Both windings are drawn; depth testing is the caller's (the
-/// hemicube keeps ids, the camera colours). Pixels outside the raster are skipped.
-/// Cost: O(pixels of the bounding box).
+/// Rasterises one triangle given in clip space into a width x height raster (each at most
+/// 2^20): clips it to the near plane, divides by w, and calls visit(Fragment) for every pixel
+/// whose centre it covers (top-left rule on shared edges; vertices snapped to 1/256 pixel).
+/// Both windings are drawn; depth testing is the caller's (the camera keeps colours). Pixels
+/// outside the raster are skipped. Cost: O(pixels of the bounding box).
 template <class Visit>
 void rasterize_triangle(const std::array<Vec4, 3>& clip, int width, int height, Visit&& visit) {
-    const std::array<detail::ClipVertex, 3> in{
-        {{clip[0], {1, 0, 0}}, {clip[1], {0, 1, 0}}, {clip[2], {0, 0, 1}}}};
-    std::array<detail::ClipVertex, 4> poly;
-    const int n = detail::clip_near(in, poly);
-    if (n < 3) return;
-    std::array<detail::ScreenVertex, 4> s;
-    for (int k = 0; k < n; ++k) s[k] = detail::to_screen(poly[k], width, height);
-    for (int k = 1; k + 1 < n; ++k)
-        detail::fill_triangle(s[0], s[k], s[k + 1], width, height, visit);
+    detail::project_triangle(
+        clip, width, height,
+        [&](const detail::ScreenVertex& v0, const detail::ScreenVertex& v1,
+            const detail::ScreenVertex& v2) {
+            const double area = detail::edge(v0, v1, v2.x, v2.y);
+            if (area == 0.0 || !std::isfinite(area)) return;
+            detail::scan_triangle(v0, v1, v2, width, height, [&](int y, int begin, int end) {
+                for (int x = begin; x < end; ++x) {
+                    const double px = x + 0.5, py = y + 0.5;
+                    // Screen-space weights l_k are linear in x, y; z/w is too, but attributes are
+                    // not: interpolate b/w and 1/w, and divide (perspective-correct interpolation).
+                    const double l0 = detail::edge(v1, v2, px, py) / area,
+                                 l1 = detail::edge(v2, v0, px, py) / area,
+                                 l2 = detail::edge(v0, v1, px, py) / area;
+                    const double depth = l0 * v0.z + l1 * v1.z + l2 * v2.z;
+                    const double inv_w = l0 * v0.inv_w + l1 * v1.inv_w + l2 * v2.inv_w;
+                    const glm::dvec3 b =
+                        (l0 * v0.inv_w * *v0.b + l1 * v1.inv_w * *v1.b + l2 * v2.inv_w * *v2.b) /
+                        inv_w;
+                    visit(Fragment{x, y, depth, b});
+                }
+            });
+        });
+}
+
+/// A run of covered pixels begin .. end - 1 of row y, and the depth z/w along it: z/w is linear
+/// in screen space, so along a row it is z0 + dzdx x.
+struct DepthSpan {
+    int y = 0, begin = 0, end = 0;  ///< row, first pixel, one past the last
+    double z0 = 0.0, dzdx = 0.0;    ///< depth at x = 0 of this row, and its step per pixel
+    double depth(int x) const { return z0 + dzdx * x; }  ///< z/w at the centre of pixel x
+};
+
+/// Rasterises one clip-space triangle for a z-buffer only: calls visit(DepthSpan) for every
+/// row's run of covered pixels, exactly those rasterize_triangle visits, with z/w from the plane
+/// through the three projected vertices. What the hemicube needs, without per-pixel barycentric
+/// weights, and with a tight loop per run for the caller's depth test.
+template <class Visit>
+void rasterize_depth(const std::array<Vec4, 3>& clip, int width, int height, Visit&& visit) {
+    detail::project_triangle(
+        clip, width, height,
+        [&](const detail::ScreenVertex& v0, const detail::ScreenVertex& v1,
+            const detail::ScreenVertex& v2) {
+            // z = v0.z + dzdx (x - v0.x) + dzdy (y - v0.y), solved from the other two vertices.
+            const double x1 = v1.x - v0.x, y1 = v1.y - v0.y, z1 = v1.z - v0.z;
+            const double x2 = v2.x - v0.x, y2 = v2.y - v0.y, z2 = v2.z - v0.z;
+            const double det = x1 * y2 - x2 * y1;
+            if (det == 0.0 || !std::isfinite(det)) return;
+            const double inv_det = 1.0 / det;
+            const double dzdx = (z1 * y2 - z2 * y1) * inv_det, dzdy = (z2 * x1 - z1 * x2) * inv_det;
+            const double z0 = v0.z + dzdx * (0.5 - v0.x) + dzdy * (0.5 - v0.y);  // at pixel (0, 0)
+            // The plane by value: the caller's stores to its depth buffer cannot touch copies.
+            detail::scan_triangle(v0, v1, v2, width, height,
+                                  [&visit, z0, dzdx, dzdy](int y, int begin, int end) {
+                                      visit(DepthSpan{y, begin, end, z0 + dzdy * y, dzdx});
+                                  });
+        });
 }
 
 }  // namespace radiosity
