@@ -295,8 +295,10 @@ int run(const Args& a) {
 
     // Without any output named, a picture: cornell_box.png for the Cornell box, else the
     // scene's name with .png (in the current folder).
-    const bool no_output = a.image.empty() && a.ply.empty() && a.dump_patches.empty() &&
-                           a.dump_form_factors.empty() && a.lightmap.empty();
+    bool no_output = true;
+    for (const std::string* o : {&a.image, &a.ply, &a.gltf, &a.hdr, &a.rrv_out, &a.lightmap,
+                                 &a.dump_patches, &a.dump_form_factors, &a.form_factors_text})
+        no_output = no_output && o->empty();
     const std::string image = !no_output ? a.image
                               : a.scene == "cornell"
                                   ? "cornell_box.png"

@@ -174,3 +174,18 @@ TEST_CASE("--lightmap bakes the Cornell box into an HDR lightmap and a glTF that
     check_one_line_error("cornell --lightmap '" + out("lm.hdr") + "' --lightmap-size 4",
                          "--lightmap-size");
 }
+
+TEST_CASE("a default picture is written only when no output at all is named") {
+    const fs::path dir = work_dir() / "default_picture";
+    fs::create_directories(dir);
+    auto in_dir = [&](const std::string& args) {
+        const std::string cmd = "cd '" + dir.string() + "' && '" + RADIOSITY_CLI +
+                                "' cornell-empty --max-edge 200 --quiet " + args + " 2>/dev/null";
+        return std::system(cmd.c_str());
+    };
+    REQUIRE(in_dir("--gltf only.glb") == 0);
+    CHECK(fs::exists(dir / "only.glb"));
+    CHECK_FALSE(fs::exists(dir / "cornell-empty.png"));
+    REQUIRE(in_dir("") == 0);
+    CHECK(fs::exists(dir / "cornell-empty.png"));
+}
