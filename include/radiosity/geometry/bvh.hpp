@@ -221,6 +221,21 @@ class Bvh {
         }
     };
 
+    /// The plane x_axis = at in which a triangle lies, if it lies in one (all three vertices
+    /// with exactly that coordinate; axis 3 if none). A ray with d_axis = 0 and o_axis = at
+    /// lies in that plane, and the watertight test then surely misses: in its sheared frame
+    /// every vertex projects to exactly 0 (or NaN) along the axis, so U, V and W are all zero
+    /// (det = 0) or NaN (t = NaN). Lets the search skip these without the double test.
+    struct AxisPlane {
+        double at = 0.0;
+        std::uint32_t axis = 3;
+        static AxisPlane of(const Triangle& t) {
+            for (std::uint32_t a = 0; a < 3; ++a)
+                if (t.v[0][a] == t.v[1][a] && t.v[0][a] == t.v[2][a]) return {t.v[0][a], a};
+            return {};
+        }
+    };
+
     Box triangle_box(std::size_t t) const {
         Box b;
         for (const Vec3& p : triangles_[t].v) b.grow(p);
@@ -272,8 +287,11 @@ class Bvh {
             }
         triangles_ = std::move(laid_out);
         blocks_.assign(triangles_.size() / 4, {});
-        for (std::size_t t = 0; t < triangles_.size(); ++t)
+        planes_.resize(triangles_.size());
+        for (std::size_t t = 0; t < triangles_.size(); ++t) {
             blocks_[t / 4].set(t % 4, triangles_[t]);
+            planes_[t] = AxisPlane::of(triangles_[t]);
+        }
     }
 
     /// Builds node `index` over triangles [first, first + count): find the best binned SAH split
@@ -647,6 +665,16 @@ class Bvh {
         auto skipped = [&](const TriangleBlock& block, int lane) {
             return block.patch[lane] == skip[0] || block.patch[lane] == skip[1];
         };
+        // Axes along which the ray does not move: a triangle lying in a plane across one of them
+        // through the origin contains the ray, which the filter cannot tell from a hit on its
+        // edge (rays between patches of one wall meet dozens of such triangles).
+        const unsigned flat =
+            (d.x == 0.0 ? 1u : 0u) | (d.y == 0.0 ? 2u : 0u) | (d.z == 0.0 ? 4u : 0u);
+        auto in_ray_plane = [&](std::uint32_t k) {
+            const AxisPlane& plane = planes_[k];
+            return plane.axis < 3 && ((flat >> plane.axis) & 1u) != 0 &&
+                   plane.at == glm::value_ptr(o)[plane.axis];
+        };
         while (top > 0) {
             Entry e = stack[--top];
             const float limit = float_above(t_far ? *t_far : t1);
@@ -665,7 +693,7 @@ class Bvh {
                 }
                 for (; mask != 0; mask &= mask - 1) {
                     const int lane = std::countr_zero(mask);
-                    if (skipped(block, lane)) continue;
+                    if (skipped(block, lane) || (flat != 0 && in_ray_plane(first + lane))) continue;
                     const Triangle& tri = triangles_[first + lane];
                     double t, u, v;
                     if (hit_triangle(tri, o, sheared, t0, t_far ? *t_far : t1, t, u, v) &&
@@ -682,6 +710,7 @@ class Bvh {
     BvhOptions options_;
     std::vector<Triangle> triangles_;    // leaf by leaf, each leaf from a multiple of 4
     std::vector<TriangleBlock> blocks_;  // triangles_ in fours, single precision
+    std::vector<AxisPlane> planes_;      // of each of triangles_
     std::size_t triangle_count_ = 0;
     std::vector<Node> nodes_;  // nodes_[0] is the root
     double scale_ = 0.0;       // largest coordinate magnitude of any vertex
