@@ -1,7 +1,7 @@
 #pragma once
 /// @file bvh.hpp  A bounding volume hierarchy over the scene's triangles for visibility rays:
-/// binned surface-area-heuristic build (Wald 2007) collapsed into a four-wide tree whose four
-/// child boxes are tested at once (Dammertz et al. 2008; Wald et al. 2014, Embree), a
+/// binned surface-area-heuristic build (Wald 2007) collapsed into an eight-wide tree whose
+/// child boxes are tested four at a time (Dammertz et al. 2008; Wald et al. 2014, Embree), a
 /// watertight ray-triangle test (Woop, Benthin & Wald 2013), any-hit (occlusion) and
 /// closest-hit queries. It models Visibility.
 
@@ -49,10 +49,11 @@ struct Hit {
     double u = 0.0, v = 0.0;  ///< barycentrics of vertices 1 and 2 of the triangle
 };
 
-/// A four-wide BVH over triangles, each tagged with the patch it belongs to: a binary binned-SAH
-/// tree (Wald 2007) with every node's grandchildren pulled up until it has four children
-/// (Dammertz, Hanika & Keller 2008: "Shallow bounding volume hierarchies"), so one SIMD slab
-/// test handles four single-precision boxes. Leaves hold up to four triangles (the default
+/// An eight-wide BVH over triangles, each tagged with the patch it belongs to: a binary
+/// binned-SAH tree (Wald 2007) with every node's descendants pulled up until it has eight
+/// children (Dammertz, Hanika & Keller 2008: "Shallow bounding volume hierarchies"), whose
+/// single-precision boxes a SIMD slab test handles four at a time. Leaves hold up to four
+/// triangles (the default
 /// max_leaf_size), tested at once in single precision by a filter whose error bound is proven,
 /// so that only the triangles it cannot decide go to the exact test: the watertight test (Woop
 /// et al. 2013) in double precision, through which rays never slip at shared edges. Answers are
@@ -74,7 +75,7 @@ class Bvh {
     }
 
     std::size_t triangle_count() const { return triangle_count_; }  ///< triangles held
-    std::size_t node_count() const { return nodes_.size(); }        ///< four-wide nodes
+    std::size_t node_count() const { return nodes_.size(); }        ///< eight-wide nodes
 
     /// Visibility: true if the open segment p -> q (endpoints excluded by a relative margin)
     /// hits a triangle of any patch other than a and b. Any hit ends the search.
@@ -119,7 +120,7 @@ class Bvh {
         stack[top++] = 0;
         while (top > 0) {
             const Node& node = nodes_[stack[--top]];
-            for (int k = 0; k < 4; ++k) {
+            for (int k = 0; k < width; ++k) {
                 if (!overlaps(node.corner(k, 0), node.corner(k, 1))) continue;
                 if (node.count[k] == 0)
                     stack[top++] = node.first[k];
@@ -149,9 +150,12 @@ class Bvh {
     }
 
   private:
-    // Deep enough for any tree: the build stops splitting at depth 64, and each four-wide node
-    // on the path pushes at most three siblings.
-    static constexpr std::size_t stack_size = 3 * 64 + 4;
+    /// Children per node. Eight beat four (and sixteen) in bench_bvh: a ray's walk to its first
+    /// leaf is a chain of dependent loads, and wider nodes make the tree shallower.
+    static constexpr int width = 8;
+    // Deep enough for any tree: the build stops splitting at depth 64, and each node on the
+    // path pushes at most width - 1 siblings.
+    static constexpr std::size_t stack_size = (width - 1) * 64 + width;
 
     struct Triangle {
         std::array<Vec3, 3> v;
@@ -179,14 +183,14 @@ class Bvh {
         std::uint32_t first = 0;
         std::uint32_t count = 0;  // 0 for an inner node
     };
-    /// A four-wide node, laid out for the SIMD slab test: box[2a][k] and box[2a + 1][k] are the
+    /// A node, laid out for the SIMD slab test: box[2a][k] and box[2a + 1][k] are the
     /// low and high faces of child k along axis a, in single precision rounded outwards (the
     /// child's double box always lies inside). Child k is a leaf with triangles [first, first +
     /// count) if count > 0, else the inner node nodes_[first]. An unused slot has an empty
-    /// box (low +inf, high -inf) that no ray enters and no box overlaps. 128 bytes.
+    /// box (low +inf, high -inf) that no ray enters and no box overlaps. 256 bytes.
     struct alignas(64) Node {
-        std::array<std::array<float, 4>, 6> box;
-        std::array<std::uint32_t, 4> first{}, count{};
+        std::array<std::array<float, width>, 6> box;
+        std::array<std::uint32_t, width> first{}, count{};
         Node() {
             constexpr float inf = std::numeric_limits<float>::infinity();
             for (int a = 0; a < 3; ++a) {
@@ -246,7 +250,7 @@ class Bvh {
         return (v[0] + v[1] + v[2]) / 3.0;
     }
 
-    /// Builds the binary SAH tree, then collapses it into four-wide nodes.
+    /// Builds the binary SAH tree, then collapses it into eight-wide nodes.
     void build() {
         nodes_.clear();
         scale_ = 0.0;
@@ -277,7 +281,7 @@ class Bvh {
         std::vector<Triangle> laid_out;
         laid_out.reserve(triangles_.size() + triangles_.size() / 2 + 4);
         for (Node& node : nodes_)
-            for (int k = 0; k < 4; ++k) {
+            for (int k = 0; k < width; ++k) {
                 if (node.count[k] == 0) continue;
                 const auto first = static_cast<std::uint32_t>(laid_out.size());
                 for (std::uint32_t t = 0; t < node.count[k]; ++t)
@@ -330,14 +334,14 @@ class Bvh {
         build_node(nodes, nodes[index].first, mid, first + count - mid, depth + 1);
     }
 
-    /// Makes a four-wide node from inner binary node `index`: start from its two children and
-    /// keep replacing the inner child of largest surface area by its two children until there
-    /// are four (the largest box is the likeliest to be entered, so opening it saves the most
+    /// Makes a node from inner binary node `index`: start from its two children and keep
+    /// replacing the inner child of largest surface area by its two children until there are
+    /// `width` (the largest box is the likeliest to be entered, so opening it saves the most
     /// box tests). Returns the new node's index; depth never grows, so it stays within 64.
     std::uint32_t collapse(const std::vector<BuildNode>& binary, std::uint32_t index) {
-        std::array<std::uint32_t, 4> child{index + 1, binary[index].first, 0, 0};
+        std::array<std::uint32_t, width> child{index + 1, binary[index].first};
         std::size_t n = 2;
-        while (n < 4) {
+        while (n < width) {
             std::size_t widest = n;
             double area = -1.0;
             for (std::size_t k = 0; k < n; ++k) {
@@ -435,8 +439,8 @@ class Bvh {
         return f > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
     }
 
-    /// What the four-box slab test needs of a ray, in single precision, computed once per ray.
-    /// The ray is tested against each box grown by a margin `pad` on every side, where pad is
+    /// What the slab test of a node's boxes needs of a ray, in single precision, computed once per
+    /// ray. The ray is tested against each box grown by a margin `pad` on every side, where pad is
     /// 2^-18 (scene scale + |origin|): far more than the rounding of the origin, of 1 / d and of
     /// the slab arithmetic (a few 2^-24 of the same magnitudes), so a box that the exact ray
     /// enters is never missed (compare Ize 2013, "Robust BVH ray traversal"). The padding costs
@@ -464,20 +468,25 @@ class Bvh {
             last = detail::Float4::splat(std::numeric_limits<float>::infinity());
         }
 
-        /// Slab test (Kay & Kajiya 1986) of the four child boxes of a node for t in [t0, t1]:
-        /// returns a mask of the children entered, and in `order` their entry distances (lower
-        /// bounds of the exact ones), or +inf for boxes entered at or before `defer`.
+        /// Slab test (Kay & Kajiya 1986) of the child boxes of a node for t in [t0, t1], four at a
+        /// time: returns a mask of the children entered, and in `order` their entry distances
+        /// (lower bounds of the exact ones), or +inf for boxes entered at or before `defer`.
         int enter(const Node& node, float t1, float* order) const {
             using detail::Float4;
-            Float4 near = t0, far = Float4::splat(t1);
-            for (int a = 0; a < 3; ++a) {
-                const Float4 n = (Float4::load(node.box[near_face[a]].data()) - near_origin[a]);
-                const Float4 f = (Float4::load(node.box[far_face[a]].data()) - far_origin[a]);
-                near = vmax(n * inv[a], near);  // argument order: a NaN slab is ignored
-                far = vmin(f * inv[a], far);
+            int mask = 0;
+            for (int h = 0; h < width; h += 4) {
+                Float4 near = t0, far = Float4::splat(t1);
+                for (int a = 0; a < 3; ++a) {
+                    const Float4 n =
+                        Float4::load(node.box[near_face[a]].data() + h) - near_origin[a];
+                    const Float4 f = Float4::load(node.box[far_face[a]].data() + h) - far_origin[a];
+                    near = vmax(n * inv[a], near);  // argument order: a NaN slab is ignored
+                    far = vmin(f * inv[a], far);
+                }
+                where_at_most(near, defer, last).store(order + h);
+                mask |= less_equal_mask(near, far) << h;
             }
-            where_at_most(near, defer, last).store(order);
-            return less_equal_mask(near, far);
+            return mask;
         }
     };
 
@@ -611,7 +620,7 @@ class Bvh {
                  std::size_t& top) const {
         while (e.count == 0) {
             const Node& node = nodes_[e.first];
-            alignas(16) std::array<float, 4> key;
+            alignas(16) std::array<float, width> key;
             unsigned mask = static_cast<unsigned>(ray.enter(node, t1, key.data()));
             if (mask == 0) return false;
             auto child = [&](int k) { return Entry{node.first[k], node.count[k], key[k]}; };
@@ -627,7 +636,7 @@ class Bvh {
             top += two ? 1 : 0;
             e = child(swap ? k1 : k0);
             if (mask == 0) continue;
-            const std::size_t base = top - 1;  // three or four: keep [base, top) sorted
+            const std::size_t base = top - 1;  // three or more: keep [base, top) sorted
             stack[top++] = e;
             for (; mask != 0; mask &= mask - 1) {
                 const Entry c = child(std::countr_zero(mask));
