@@ -2,6 +2,8 @@
 // gives the picture of the vertex-interpolated radiosity away from edges; no texel of a chart is
 // black; the gutter holds only its own chart's light; texels on both sides of a UV seam agree
 // within a texel's change; and the whole bake is bit-identical on 1 and 2 threads.
+#include <radiosity/io/gltf.hpp>
+#include <radiosity/io/gltf_read.hpp>
 #include <radiosity/io/scenes.hpp>
 #include <radiosity/lightmap/lightmap.hpp>
 #include <radiosity/shading/camera.hpp>
@@ -11,6 +13,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <filesystem>
 #include <map>
 #include <numbers>
 #ifdef RADIOSITY_WITH_OPENMP
@@ -252,4 +255,33 @@ TEST_CASE("bad lightmap options are refused") {
     o = LightmapOptions{};
     o.unwrap.size = 4;
     CHECK_THROWS_AS(bake(scene, SolveOptions{}, o), Error);
+}
+
+TEST_CASE("a baked glTF read back keeps its lightmap UVs, and a second bake uses them") {
+    const auto& b = cornell();
+    const std::filesystem::path path =
+        std::filesystem::temp_directory_path() / "radiosity_lightmap_roundtrip.glb";
+    write_gltf_lightmapped(b.shaded, b.lightmap.image, path.string(), 1.0);
+    const Scene<Rgb> scene = read_gltf<Rgb>(path.string());
+    std::filesystem::remove(path);
+    REQUIRE(scene.face_uvs.size() == b.shaded.triangles.size());
+    for (std::size_t f = 0; f < scene.faces.size(); ++f)
+        for (std::size_t k = 0; k < 3; ++k)
+            CHECK(scene.face_uvs[f][k] == b.shaded.uvs[b.shaded.triangles[f][k]]);
+    LightmapOptions o;
+    o.unwrap.size = b.atlas.width;
+    o.texels_per_patch = 0.0;  // keep the triangles as patches
+    o.bake.inside_rays = 0;
+    const auto again = bake(build_mesh(scene), SolveOptions{}, o);
+    CHECK_FALSE(again.generated_uvs);
+    CHECK(again.atlas.texel_density == doctest::Approx(b.atlas.texel_density).epsilon(0.01));
+    // The same texels are covered as in the first bake (the same triangles in the same places).
+    std::size_t same = 0, covered = 0;
+    for (std::size_t i = 0; i < b.lightmap.state.size(); ++i) {
+        const bool first =
+            b.lightmap.state[i] == TexelState::surface || b.lightmap.state[i] == TexelState::inside;
+        covered += first;
+        same += first && again.lightmap.state[i] == TexelState::surface;
+    }
+    CHECK(same == covered);
 }
