@@ -237,13 +237,14 @@ void write_lightmap(const Args& a, const radiosity::BakeResult<Colour>& b,
     using radiosity::TexelState;
     if (!a.quiet)
         std::fprintf(stderr,
-                     "lightmap %dx%d, %s UVs (%zu charts, %.4g texels per unit): %zu surface, %zu "
-                     "inside geometry, %zu gutter texels; unwrap %.2f s, solve %.2f s, bake %.2f "
-                     "s; wrote %s\n",
+                     "lightmap %dx%d, %s UVs (%zu charts, %.4g texels per unit, patches cut to "
+                     "%.4g units): %zu surface, %zu inside geometry, %zu gutter texels; unwrap "
+                     "%.2f s, solve %.2f s, bake %.2f s; wrote %s\n",
                      b.atlas.width, b.atlas.height, b.generated_uvs ? "generated" : "the scene's",
-                     b.atlas.charts, b.atlas.texel_density, b.lightmap.count(TexelState::surface),
-                     b.lightmap.count(TexelState::inside), b.lightmap.count(TexelState::dilated),
-                     b.unwrap_seconds, b.solve_seconds, b.bake_seconds, a.lightmap.c_str());
+                     b.atlas.charts, b.atlas.texel_density, b.patch_edge,
+                     b.lightmap.count(TexelState::surface), b.lightmap.count(TexelState::inside),
+                     b.lightmap.count(TexelState::dilated), b.unwrap_seconds, b.solve_seconds,
+                     b.bake_seconds, a.lightmap.c_str());
 }
 
 int run(const Args& a) {

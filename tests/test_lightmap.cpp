@@ -285,3 +285,16 @@ TEST_CASE("a baked glTF read back keeps its lightmap UVs, and a second bake uses
     }
     CHECK(same == covered);
 }
+
+TEST_CASE("the texel rule never makes more patches than max_patches") {
+    const auto scene = build_mesh(cornell_box<Rgb>());
+    LightmapOptions o;
+    o.unwrap.size = 256;
+    o.max_patches = 600;
+    o.bake.inside_rays = 0;
+    const auto r = bake(scene, SolveOptions{}, o);
+    CHECK(r.solution.patches.size() <= 600);
+    CHECK(r.solution.patches.size() > 300);  // the edge grows no more than it must
+    CHECK(r.patch_edge > o.texels_per_patch / r.atlas.texel_density);
+    CHECK(subdivided_face_count(scene, r.patch_edge) == r.solution.patches.size());
+}

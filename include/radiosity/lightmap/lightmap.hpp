@@ -20,11 +20,12 @@ namespace radiosity {
 
 /// Settings of a lightmap bake.
 struct LightmapOptions {
-    UnwrapOptions unwrap{};          ///< atlas size or density, gutter, chart angle (its crease
-                                     ///< angle is taken from shading)
-    double texels_per_patch = 4.0;   ///< longest patch edge in texels (0: the solve's own meshing)
-    BakeOptions bake{};              ///< inside-geometry test and dilation
-    SmoothShadingOptions shading{};  ///< crease angle of the interpolated radiosity
+    UnwrapOptions unwrap{};           ///< atlas size or density, gutter, chart angle (its crease
+                                      ///< angle is taken from shading)
+    double texels_per_patch = 4.0;    ///< longest patch edge in texels (0: the solve's own meshing)
+    std::size_t max_patches = 20000;  ///< patches made by the texel rule, at most (then coarser)
+    BakeOptions bake{};               ///< inside-geometry test and dilation
+    SmoothShadingOptions shading{};   ///< crease angle of the interpolated radiosity
 };
 
 /// What bake() returns: the solved scene, its shaded mesh with lightmap UVs, the lightmap, the
@@ -36,6 +37,7 @@ struct BakeResult {
     Lightmap lightmap;            ///< the baked texels
     Atlas atlas;                  ///< size and texel density of the lightmap
     bool generated_uvs = false;   ///< true if the UVs were made here (the scene had none)
+    double patch_edge = 0.0;      ///< the max edge the patches were cut to (0: not cut)
     double unwrap_seconds = 0.0;  ///< making the UVs
     double solve_seconds = 0.0;   ///< subdivision, form factors and the solver
     double bake_seconds = 0.0;    ///< shading and baking
@@ -75,30 +77,47 @@ Atlas lightmap_atlas(Mesh<S>& mesh, const LightmapOptions& o, bool& generated) {
     return atlas;
 }
 
+/// The patch edge for the texel rule: `edge`, or longer where that would make more than
+/// max_patches patches (the dense solve needs n^2 form factors; smooth shading still gives every
+/// texel its own interpolated value). Each try scales the edge by the square root of the excess.
+template <SpectrumType S>
+double texel_patch_edge(const Mesh<S>& mesh, double edge, std::size_t max_patches) {
+    for (int attempt = 0; attempt < 16; ++attempt) {
+        const std::size_t n = subdivided_face_count(mesh, edge);
+        if (n <= max_patches) return edge;
+        edge *= 1.02 * std::sqrt(double(n) / double(max_patches));
+    }
+    return edge;
+}
+
 inline double seconds_since(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 }  // namespace detail
 
 /// Bakes a scene's radiosity into a lightmap (see the file comment). The patches are cut so
-/// that none is longer than texels_per_patch texels (or solve.subdivision.max_edge, if that is
-/// finer). Throws Error for bad options or input, Cancelled if the progress callback stops.
+/// that none is longer than texels_per_patch texels, unless that would make more than
+/// max_patches patches (then coarser), or solve.subdivision.max_edge, if that is finer. Throws
+/// Error for bad options or input, Cancelled if the progress callback stops.
 template <SpectrumType S>
 BakeResult<S> bake(const Mesh<S>& scene, SolveOptions solve_options,
                    const LightmapOptions& options = {}) {
     if (!(options.texels_per_patch >= 0.0) || !std::isfinite(options.texels_per_patch))
         throw Error("lightmap: texels per patch must be a finite number >= 0, not " +
                     std::to_string(options.texels_per_patch));
+    if (options.max_patches < 1) throw Error("lightmap: max patches must be at least 1");
     BakeResult<S> out;
     auto t0 = std::chrono::steady_clock::now();
     Mesh<S> mesh = scene;
     out.atlas = detail::lightmap_atlas(mesh, options, out.generated_uvs);
     out.unwrap_seconds = detail::seconds_since(t0);
     if (options.texels_per_patch > 0.0 && out.atlas.texel_density > 0.0) {
-        const double edge = options.texels_per_patch / out.atlas.texel_density;
         double& max_edge = solve_options.subdivision.max_edge;
+        const double edge = detail::texel_patch_edge(
+            mesh, options.texels_per_patch / out.atlas.texel_density, options.max_patches);
         max_edge = max_edge > 0.0 ? std::min(max_edge, edge) : edge;
     }
+    out.patch_edge = solve_options.subdivision.max_edge;
     t0 = std::chrono::steady_clock::now();
     out.solution = solve(mesh, solve_options);
     out.solve_seconds = detail::seconds_since(t0);

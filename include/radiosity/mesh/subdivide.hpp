@@ -313,6 +313,50 @@ class SubdivisionBuilder {
 
 }  // namespace detail
 
+namespace detail {
+/// The welded input, its edge splits and the number of faces subdivision would make.
+struct SubdivisionPlan {
+    Welded welded;
+    EdgeSplits splits;
+    double faces = 0.0;
+};
+
+template <SpectrumType S>
+SubdivisionPlan plan_subdivision(const Mesh<S>& mesh, double max_edge) {
+    Vec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (auto v : mesh.vertices()) {
+        const auto& p = mesh.point(v);
+        lo = glm::min(lo, Vec3(p[0], p[1], p[2]));
+        hi = glm::max(hi, Vec3(p[0], p[1], p[2]));
+    }
+    const double eps = mesh.n_vertices() > 0 ? 1e-9 * glm::length(hi - lo) : 0.0;
+    SubdivisionPlan plan{weld(mesh, eps), {}, 0.0};
+    plan.splits = split_edges(plan.welded, max_edge);
+    for (std::size_t f = 0; f < plan.welded.face.size(); ++f) {
+        const auto& ids = plan.splits.face_edges[f];
+        const auto& k = plan.splits.segments;
+        plan.faces += ids.size() == 4 ? double(k[ids[0]]) * double(k[ids[1]])
+                                      : double(k[ids[0]]) * double(k[ids[0]]);
+    }
+    return plan;
+}
+
+inline void check_max_edge(double max_edge) {
+    if (!std::isfinite(max_edge) || max_edge < 0.0)
+        throw Error("subdivision: max edge must be a finite length >= 0, not " +
+                    std::to_string(max_edge));
+}
+}  // namespace detail
+
+/// How many patches subdivide(mesh, {max_edge}) would make, without making them (for choosing
+/// a max edge that fits a patch budget). Cost: O(n log n) in the input.
+template <SpectrumType S>
+std::size_t subdivided_face_count(const Mesh<S>& mesh, double max_edge) {
+    detail::check_max_edge(max_edge);
+    if (max_edge == 0.0) return mesh.n_faces();
+    return static_cast<std::size_t>(detail::plan_subdivision(mesh, max_edge).faces);
+}
+
 /// Conforming subdivision (see the file comment): returns a new mesh whose edges are at most
 /// max_edge long, where coincident input vertices (within 1e-9 of the scene's size) are merged
 /// first so that faces meeting along a geometric edge share the new vertices too. Children keep
@@ -321,30 +365,14 @@ class SubdivisionBuilder {
 /// than max_faces would result. Cost: O(output size + n log n).
 template <SpectrumType S>
 Mesh<S> subdivide(const Mesh<S>& mesh, const SubdivisionOptions& options = {}) {
-    if (!std::isfinite(options.max_edge) || options.max_edge < 0.0)
-        throw Error("subdivision: max edge must be a finite length >= 0, not " +
-                    std::to_string(options.max_edge));
+    detail::check_max_edge(options.max_edge);
     if (options.max_edge == 0.0) return mesh;
-    Vec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
-    for (auto v : mesh.vertices()) {
-        const auto& p = mesh.point(v);
-        lo = glm::min(lo, Vec3(p[0], p[1], p[2]));
-        hi = glm::max(hi, Vec3(p[0], p[1], p[2]));
-    }
-    const double eps = mesh.n_vertices() > 0 ? 1e-9 * glm::length(hi - lo) : 0.0;
-    const detail::Welded w = detail::weld(mesh, eps);
-    const detail::EdgeSplits e = detail::split_edges(w, options.max_edge);
-    double faces = 0.0;
-    for (std::size_t f = 0; f < w.face.size(); ++f) {
-        const auto& ids = e.face_edges[f];
-        faces += ids.size() == 4 ? double(e.segments[ids[0]]) * double(e.segments[ids[1]])
-                                 : double(e.segments[ids[0]]) * double(e.segments[ids[0]]);
-    }
-    if (faces > double(options.max_faces))
+    const detail::SubdivisionPlan plan = detail::plan_subdivision(mesh, options.max_edge);
+    if (plan.faces > double(options.max_faces))
         throw Error("subdivision: max edge " + std::to_string(options.max_edge) + " would make " +
-                    std::to_string(static_cast<long long>(faces)) + " patches (more than " +
+                    std::to_string(static_cast<long long>(plan.faces)) + " patches (more than " +
                     std::to_string(options.max_faces) + ")");
-    return detail::SubdivisionBuilder<S>(mesh, w, e).build();
+    return detail::SubdivisionBuilder<S>(mesh, plan.welded, plan.splits).build();
 }
 
 }  // namespace radiosity
