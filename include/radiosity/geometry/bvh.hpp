@@ -437,13 +437,41 @@ class Bvh {
     /// Smallest float >= x (x itself if it is a float): a bound that is never too tight.
     static float float_above(double x) {
         const auto f = static_cast<float>(x);
-        return f < x ? std::nextafter(f, std::numeric_limits<float>::infinity()) : f;
+        return f < x ? next_float(f, 1) : f;
     }
     /// Largest float <= x.
     static float float_below(double x) {
         const auto f = static_cast<float>(x);
-        return f > x ? std::nextafter(f, -std::numeric_limits<float>::infinity()) : f;
+        return f > x ? next_float(f, -1) : f;
     }
+    /// The float after f towards +inf (up = 1) or -inf (up = -1), for f not NaN nor the infinity
+    /// it moves towards: std::nextafter by stepping the bits (whose order is that of the
+    /// magnitudes), inline, as the library call cost a tenth of a ray's setup.
+    static float next_float(float f, int up) {
+        if (f == 0.0f) return std::numeric_limits<float>::denorm_min() * static_cast<float>(up);
+        const auto bits = std::bit_cast<std::uint32_t>(f);
+        return std::bit_cast<float>((f > 0.0f) == (up > 0) ? bits + 1 : bits - 1);
+    }
+
+    /// The watertight ray-triangle test (Woop, Benthin & Wald 2013): shear the triangle into the
+    /// ray's frame, where the ray is the z axis, and test the signs of the 2-D edge functions.
+    /// Edges shared by two triangles give the same edge function with opposite sign, so a ray
+    /// through an edge hits at least one of them.
+    struct ShearedRay {
+        int kx, ky, kz;
+        double sx, sy, sz;
+        explicit ShearedRay(const Vec3& dir) {
+            const Vec3 a = glm::abs(dir);
+            const double* d = glm::value_ptr(dir);
+            kz = a.x > a.y ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
+            kx = (kz + 1) % 3;
+            ky = (kx + 1) % 3;
+            if (d[kz] < 0.0) std::swap(kx, ky);  // keep the winding
+            sx = d[kx] / d[kz];
+            sy = d[ky] / d[kz];
+            sz = 1.0 / d[kz];
+        }
+    };
 
     /// What the slab test of a node's boxes needs of a ray, in single precision, computed once per
     /// ray. The ray is tested against each box grown by a margin `pad` on every side, where pad is
@@ -456,20 +484,27 @@ class Bvh {
     struct RayBoxes {
         detail::Float4 inv[3], near_origin[3], far_origin[3], t0, defer, last;
         std::array<int, 3> near_face, far_face;  // rows of Node::box
-        /// The ray o + t d from t_min; boxes entered at or before `defer_to` are ordered last.
-        RayBoxes(const Vec3& o, const Vec3& d, double t_min, double scale, float defer_to) {
-            const double pad = 0x1p-18 * (scale + max_abs(o));
+        /// The ray o + t d from t_min (t_min_below, a float <= t_min); boxes entered at or before
+        /// `defer_to` are ordered last. R is scene scale + |origin|; 1 / d along the ray's major
+        /// axis is the shear's sz (the same double), which saves a division.
+        RayBoxes(const Vec3& o, const Vec3& d, const ShearedRay& sheared, float t_min_below,
+                 double R, float defer_to) {
+            const double pad = 0x1p-18 * R;
+            std::array<double, 3> inv_d;
+            inv_d[sheared.kx] = 1.0 / glm::value_ptr(d)[sheared.kx];
+            inv_d[sheared.ky] = 1.0 / glm::value_ptr(d)[sheared.ky];
+            inv_d[sheared.kz] = sheared.sz;
             for (int a = 0; a < 3; ++a) {
                 const double da = glm::value_ptr(d)[a], oa = glm::value_ptr(o)[a];
                 const bool negative = std::signbit(da);
                 const double shift = negative ? -pad : pad;
-                inv[a] = detail::Float4::splat(static_cast<float>(1.0 / da));
+                inv[a] = detail::Float4::splat(static_cast<float>(inv_d[a]));
                 near_origin[a] = detail::Float4::splat(static_cast<float>(oa + shift));
                 far_origin[a] = detail::Float4::splat(static_cast<float>(oa - shift));
                 near_face[a] = 2 * a + (negative ? 1 : 0);
                 far_face[a] = 2 * a + (negative ? 0 : 1);
             }
-            t0 = detail::Float4::splat(float_below(t_min));
+            t0 = detail::Float4::splat(t_min_below);
             defer = detail::Float4::splat(defer_to);
             last = detail::Float4::splat(std::numeric_limits<float>::infinity());
         }
@@ -493,26 +528,6 @@ class Bvh {
                 mask |= less_equal_mask(near, far) << h;
             }
             return mask;
-        }
-    };
-
-    /// The watertight ray-triangle test (Woop, Benthin & Wald 2013): shear the triangle into the
-    /// ray's frame, where the ray is the z axis, and test the signs of the 2-D edge functions.
-    /// Edges shared by two triangles give the same edge function with opposite sign, so a ray
-    /// through an edge hits at least one of them.
-    struct ShearedRay {
-        int kx, ky, kz;
-        double sx, sy, sz;
-        explicit ShearedRay(const Vec3& dir) {
-            const Vec3 a = glm::abs(dir);
-            const double* d = glm::value_ptr(dir);
-            kz = a.x > a.y ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
-            kx = (kz + 1) % 3;
-            ky = (kx + 1) % 3;
-            if (d[kz] < 0.0) std::swap(kx, ky);  // keep the winding
-            sx = d[kx] / d[kz];
-            sy = d[ky] / d[kz];
-            sz = 1.0 / d[kz];
         }
     };
 
@@ -541,7 +556,8 @@ class Bvh {
     struct FilterRay {
         detail::Float4 origin[3], sx, sy, sz, bound_scale, bound_floor, t_low, t_high;
         int kx, ky, kz;
-        FilterRay(const Vec3& o, const ShearedRay& r, double scale, double t0, double t1)
+        /// R is scene scale + |origin|.
+        FilterRay(const Vec3& o, const ShearedRay& r, double R, double t0, double t1)
             : kx(r.kx), ky(r.ky), kz(r.kz) {
             using detail::Float4;
             for (int a = 0; a < 3; ++a)
@@ -551,7 +567,6 @@ class Bvh {
             // R bounds every coordinate of vertices and origin. Far outside float's comfortable
             // range the bound below could fail (overflow, subnormals, NaN): then reject nothing
             // and prove nothing. Within it, every value in candidates is finite.
-            const double R = scale + max_abs(o);
             const bool sane =
                 R > 1e-15 && R < 1e15 && std::abs(r.sz) < 1e30 && std::isfinite(r.sx + r.sy);
             const double inf = std::numeric_limits<double>::infinity();
@@ -671,12 +686,14 @@ class Bvh {
         // its neighbours, which the ray leaves rather than crosses: try them last. (In bench_bvh
         // this visits a quarter fewer leaves.) A closest hit needs the plain near-to-far order.
         // (NaN defers nothing: no comparison with it holds.)
-        const float defer = any_hit ? float_below(t0) : std::numeric_limits<float>::quiet_NaN();
-        const RayBoxes ray(o, d, t0, scale_, defer);
-        const FilterRay filter(o, sheared, scale_, t0, t1);
+        const float t0_below = float_below(t0);
+        const float defer = any_hit ? t0_below : std::numeric_limits<float>::quiet_NaN();
+        const double R = scale_ + max_abs(o);
+        const RayBoxes ray(o, d, sheared, t0_below, R, defer);
+        const FilterRay filter(o, sheared, R, t0, t1);
         std::array<Entry, stack_size> stack;
         std::size_t top = 0;
-        stack[top++] = {0, 0, float_below(t0)};
+        stack[top++] = {0, 0, t0_below};
         auto skipped = [&](const TriangleBlock& block, int lane) {
             return block.patch[lane] == skip[0] || block.patch[lane] == skip[1];
         };
@@ -690,9 +707,10 @@ class Bvh {
             return plane.axis < 3 && ((flat >> plane.axis) & 1u) != 0 &&
                    plane.at == glm::value_ptr(o)[plane.axis];
         };
+        const float t1_above = float_above(t1);
         while (top > 0) {
             Entry e = stack[--top];
-            const float limit = float_above(t_far ? *t_far : t1);
+            const float limit = t_far ? float_above(*t_far) : t1_above;
             // Keys are distances unless deferring, and only closest hits (t_far) prune by distance.
             if ((t_far && e.t > limit) || !descend(e, ray, limit, stack, top)) continue;
             for (std::uint32_t first = e.first; first < e.first + e.count; first += 4) {
