@@ -298,6 +298,15 @@ class Bvh {
             blocks_[t / 4].set(t % 4, triangles_[t]);
             planes_[t] = AxisPlane::of(triangles_[t]);
         }
+        block_planes_.resize(blocks_.size());
+        for (std::size_t k = 0; k < blocks_.size(); ++k) {
+            const AxisPlane& p = planes_[4 * k];
+            bool same = true;
+            for (std::size_t lane = 1; lane < 4; ++lane)
+                same = same && planes_[4 * k + lane].axis == p.axis &&
+                       planes_[4 * k + lane].at == p.at;
+            block_planes_[k] = same ? p : AxisPlane{};
+        }
     }
 
     /// Builds node `index` over triangles [first, first + count): find the best binned SAH split
@@ -702,8 +711,7 @@ class Bvh {
         // edge (rays between patches of one wall meet dozens of such triangles).
         const unsigned flat =
             (d.x == 0.0 ? 1u : 0u) | (d.y == 0.0 ? 2u : 0u) | (d.z == 0.0 ? 4u : 0u);
-        auto in_ray_plane = [&](std::uint32_t k) {
-            const AxisPlane& plane = planes_[k];
+        auto in_ray_plane = [&](const AxisPlane& plane) {
             return plane.axis < 3 && ((flat >> plane.axis) & 1u) != 0 &&
                    plane.at == glm::value_ptr(o)[plane.axis];
         };
@@ -714,6 +722,8 @@ class Bvh {
             // Keys are distances unless deferring, and only closest hits (t_far) prune by distance.
             if ((t_far && e.t > limit) || !descend(e, ray, limit, stack, top)) continue;
             for (std::uint32_t first = e.first; first < e.first + e.count; first += 4) {
+                // A ray along a wall meets its blocks by the dozen: skip each at once.
+                if (flat != 0 && in_ray_plane(block_planes_[first / 4])) continue;
                 const TriangleBlock& block = blocks_[first / 4];
                 const std::uint32_t left = e.first + e.count - first;
                 const unsigned valid = left >= 4 ? 15u : (1u << left) - 1;
@@ -726,7 +736,8 @@ class Bvh {
                 }
                 for (; mask != 0; mask &= mask - 1) {
                     const int lane = std::countr_zero(mask);
-                    if (skipped(block, lane) || (flat != 0 && in_ray_plane(first + lane))) continue;
+                    if (skipped(block, lane) || (flat != 0 && in_ray_plane(planes_[first + lane])))
+                        continue;
                     const Triangle& tri = triangles_[first + lane];
                     double t, u, v;
                     if (hit_triangle(tri, o, sheared, t0, t_far ? *t_far : t1, t, u, v) &&
@@ -741,9 +752,10 @@ class Bvh {
     static constexpr std::uint32_t no_patch = std::numeric_limits<std::uint32_t>::max();
 
     BvhOptions options_;
-    std::vector<Triangle> triangles_;    // leaf by leaf, each leaf from a multiple of 4
-    std::vector<TriangleBlock> blocks_;  // triangles_ in fours, single precision
-    std::vector<AxisPlane> planes_;      // of each of triangles_
+    std::vector<Triangle> triangles_;      // leaf by leaf, each leaf from a multiple of 4
+    std::vector<TriangleBlock> blocks_;    // triangles_ in fours, single precision
+    std::vector<AxisPlane> planes_;        // of each of triangles_
+    std::vector<AxisPlane> block_planes_;  // of all four lanes of each block, if they share one
     std::size_t triangle_count_ = 0;
     std::vector<Node> nodes_;  // nodes_[0] is the root
     double scale_ = 0.0;       // largest coordinate magnitude of any vertex
