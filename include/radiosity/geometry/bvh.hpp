@@ -84,7 +84,7 @@ class Bvh {
     bool occluded(const Vec3& p, const Vec3& q, std::uint32_t a, std::uint32_t b) const {
         constexpr double margin = 1e-9;
         auto stop = [](const Triangle&, double, double, double) { return true; };  // any hit
-        return traverse(p, q - p, margin, 1.0 - margin, stop, nullptr, {a, b}, true);
+        return traverse<true>(p, q - p, margin, 1.0 - margin, stop, nullptr, {a, b});
     }
 
     /// True if some triangle of a patch other than a and b might block a segment from the front
@@ -692,12 +692,14 @@ class Bvh {
     /// hits on triangles of patches other than those in `skip`, and returns true to stop. If
     /// `t_far` is given, it is re-read after each hit (closest-hit queries shrink it and drop
     /// subtrees entered beyond it). With `any_hit`, a triangle that the filter proves hit ends
-    /// the search without the double test (nor a call of visit). Returns true if stopped.
-    template <class Visit>
+    /// the search without the double test (nor a call of visit); it ignores t_far. Returns true
+    /// if stopped. any_hit is a template argument so that each query compiles to its own loop,
+    /// without the other's branches.
+    template <bool any_hit = false, class Visit>
     bool traverse(const Vec3& o, const Vec3& d, double t0, double t1, Visit&& visit,
                   const double* t_far = nullptr,
-                  std::array<std::uint32_t, 2> skip = {no_patch, no_patch},
-                  bool any_hit = false) const {
+                  std::array<std::uint32_t, 2> skip = {no_patch, no_patch}) const {
+        if constexpr (any_hit) t_far = nullptr;
         if (nodes_.empty() || d == Vec3(0.0)) return false;
         const ShearedRay sheared(d);
         // An occlusion ray starts on a surface. The boxes around its origin hold that surface and
@@ -738,7 +740,7 @@ class Bvh {
                 const unsigned valid = left >= 4 ? 15u : (1u << left) - 1;
                 const Lanes lanes = candidates(block, filter);
                 unsigned mask = lanes.maybe & valid;
-                if (any_hit) {
+                if constexpr (any_hit) {
                     for (unsigned sure = lanes.sure & valid; sure != 0; sure &= sure - 1)
                         if (!skipped(block, std::countr_zero(sure))) return true;
                     mask &= ~lanes.sure;
