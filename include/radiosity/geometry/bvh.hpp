@@ -653,8 +653,10 @@ class Bvh {
     };
 
     /// From inner node e, walks down towards the child box of least key that the ray enters
-    /// until e is a leaf, pushing the other children entered (larger keys first, so smaller ones
-    /// are popped first). Returns false if some inner node on the way has no child entered.
+    /// until e is a leaf, pushing the other children entered: if `sorted`, larger keys first,
+    /// so smaller ones are popped first; else only the nearer of the first two goes last.
+    /// Returns false if some inner node on the way has no child entered.
+    template <bool sorted>
     bool descend(Entry& e, const RayBoxes& ray, float t1, std::array<Entry, stack_size>& stack,
                  std::size_t& top) const {
         while (e.count == 0) {
@@ -675,15 +677,27 @@ class Bvh {
             top += two ? 1 : 0;
             e = child(swap ? k1 : k0);
             if (mask == 0) continue;
-            const std::size_t base = top - 1;  // three or more: keep [base, top) sorted
-            stack[top++] = e;
-            for (; mask != 0; mask &= mask - 1) {
-                const Entry c = child(std::countr_zero(mask));
-                std::size_t j = top++;
-                for (; j > base && stack[j - 1].t < c.t; --j) stack[j] = stack[j - 1];
-                stack[j] = c;
+            if constexpr (sorted) {  // three or more: keep [base, top) sorted
+                const std::size_t base = top - 1;
+                stack[top++] = e;
+                for (; mask != 0; mask &= mask - 1) {
+                    const Entry c = child(std::countr_zero(mask));
+                    std::size_t j = top++;
+                    for (; j > base && stack[j - 1].t < c.t; --j) stack[j] = stack[j - 1];
+                    stack[j] = c;
+                }
+                e = stack[--top];
+            } else {
+                // Keep the nearest as e and push the rest as they come. For occlusion rays in
+                // bench_bvh, sorting them visited 2.5% fewer leaves, but the sort's
+                // data-dependent branches mispredict, and the rays were 3% slower.
+                for (; mask != 0; mask &= mask - 1) {
+                    const Entry c = child(std::countr_zero(mask));
+                    const bool closer = c.t < e.t;
+                    stack[top++] = closer ? e : c;
+                    e = closer ? c : e;
+                }
             }
-            e = stack[--top];
         }
         return true;
     }
@@ -731,7 +745,7 @@ class Bvh {
             Entry e = stack[--top];
             const float limit = t_far ? float_above(*t_far) : t1_above;
             // Keys are distances unless deferring, and only closest hits (t_far) prune by distance.
-            if ((t_far && e.t > limit) || !descend(e, ray, limit, stack, top)) continue;
+            if ((t_far && e.t > limit) || !descend<!any_hit>(e, ray, limit, stack, top)) continue;
             for (std::uint32_t first = e.first; first < e.first + e.count; first += 4) {
                 // A ray along a wall meets its blocks by the dozen: skip each at once.
                 if (flat != 0 && in_ray_plane(block_planes_[first / 4])) continue;
