@@ -373,13 +373,23 @@ class Hemicube {
     /// mostly see the same patch, so whole runs are added at once, each from the prefix sums of
     /// the delta form factors (prefix[b] - prefix[a] for pixels a .. b - 1): no arithmetic per
     /// pixel.
+    /// The runs' starts are found first, without a branch per pixel (a run's end follows no
+    /// pattern the branch predictor could learn): each pixel writes its index to the list and
+    /// advances the list's end only where the patch changes.
     static void accumulate(const std::vector<double>& prefix, const std::vector<std::int32_t>& id,
                            std::vector<double>& F) {
-        std::size_t start = 0;
-        for (std::size_t k = 1; k <= id.size(); ++k) {
-            if (k < id.size() && id[k] == id[start]) continue;
-            if (id[start] >= 0) F[static_cast<std::size_t>(id[start])] += prefix[k] - prefix[start];
-            start = k;
+        thread_local std::vector<std::uint32_t> starts;
+        starts.resize(id.size() + 1);
+        std::size_t n = 0;
+        starts[n++] = 0;
+        for (std::size_t k = 1; k < id.size(); ++k) {
+            starts[n] = static_cast<std::uint32_t>(k);
+            n += id[k] != id[k - 1] ? 1 : 0;
+        }
+        starts[n] = static_cast<std::uint32_t>(id.size());
+        for (std::size_t r = 0; r < n; ++r) {
+            const std::uint32_t a = starts[r], b = starts[r + 1];
+            if (id[a] >= 0) F[static_cast<std::size_t>(id[a])] += prefix[b] - prefix[a];
         }
     }
 
