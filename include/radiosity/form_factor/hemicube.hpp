@@ -333,39 +333,63 @@ class Hemicube {
                 face, {seen.axis[0][first + k], seen.axis[1][first + k], seen.axis[2][first + k]},
                 A_, B_);
         const auto index = static_cast<std::int32_t>(j);
+        // Captures by value, not by reference: the compiler cannot tell that the stores below
+        // leave referenced values alone, and would load them again and again.
+        auto span = [zbuffer = depth.data(), items = id.data(), w, index](const DepthSpan& s) {
+            const std::int32_t who = index;
+            const double z0 = s.z0, dzdx = s.dzdx;
+            const auto row = static_cast<std::size_t>(s.y * w);
+            double* const d = zbuffer + row;
+            std::int32_t* const item = items + row;
+            double x = s.begin;  // pixel column as a double: no conversion per pixel
+            for (int px = s.begin; px < s.end; ++px, x += 1.0) {
+                const double z = z0 + dzdx * x;
+                if (z < d[px]) {
+                    d[px] = z;
+                    item[px] = who;
+                }
+            }
+        };
+        // The usual case, a polygon in front of the near plane and inside the guard band:
+        // project each vertex once for the whole fan (a quad's two triangles share two
+        // vertices), exactly as rasterize_depth would project it per triangle.
+        const double extent = std::max(w, h);
+        bool inside = count <= clip.size();
+        for (std::uint32_t k = 0; inside && k < count; ++k)
+            inside = detail::inside_guard_band(p[k], extent);
+        if (inside) {
+            static constexpr glm::dvec3 unused{1, 0, 0};  // barycentric weights: not needed
+            std::array<detail::ScreenVertex, 16> s;
+            for (std::uint32_t k = 0; k < count; ++k) s[k] = detail::to_screen(p[k], unused, w, h);
+            for (std::uint32_t k = 1; k + 1 < count; ++k)
+                detail::draw_depth(s[0], s[k], s[k + 1], w, h, span);
+            return;
+        }
         for (std::uint32_t k = 1; k + 1 < count; ++k)
-            // Captures by value, not by reference: the compiler cannot tell that the stores
-            // below leave referenced values alone, and would load them again and again.
-            rasterize_depth(
-                {p[0], p[k], p[k + 1]}, w, h,
-                [zbuffer = depth.data(), items = id.data(), w, index](const DepthSpan& s) {
-                    const std::int32_t who = index;
-                    const double z0 = s.z0, dzdx = s.dzdx;
-                    const auto row = static_cast<std::size_t>(s.y * w);
-                    double* const d = zbuffer + row;
-                    std::int32_t* const item = items + row;
-                    double x = s.begin;  // pixel column as a double: no conversion per pixel
-                    for (int px = s.begin; px < s.end; ++px, x += 1.0) {
-                        const double z = z0 + dzdx * x;
-                        if (z < d[px]) {
-                            d[px] = z;
-                            item[px] = who;
-                        }
-                    }
-                });
+            rasterize_depth({p[0], p[k], p[k + 1]}, w, h, span);
     }
 
     /// Adds the delta form factor of every pixel to the patch seen there. Neighbouring pixels
     /// mostly see the same patch, so whole runs are added at once, each from the prefix sums of
     /// the delta form factors (prefix[b] - prefix[a] for pixels a .. b - 1): no arithmetic per
     /// pixel.
+    /// The runs' starts are found first, without a branch per pixel (a run's end follows no
+    /// pattern the branch predictor could learn): each pixel writes its index to the list and
+    /// advances the list's end only where the patch changes.
     static void accumulate(const std::vector<double>& prefix, const std::vector<std::int32_t>& id,
                            std::vector<double>& F) {
-        std::size_t start = 0;
-        for (std::size_t k = 1; k <= id.size(); ++k) {
-            if (k < id.size() && id[k] == id[start]) continue;
-            if (id[start] >= 0) F[static_cast<std::size_t>(id[start])] += prefix[k] - prefix[start];
-            start = k;
+        thread_local std::vector<std::uint32_t> starts;
+        starts.resize(id.size() + 1);
+        std::size_t n = 0;
+        starts[n++] = 0;
+        for (std::size_t k = 1; k < id.size(); ++k) {
+            starts[n] = static_cast<std::uint32_t>(k);
+            n += id[k] != id[k - 1] ? 1 : 0;
+        }
+        starts[n] = static_cast<std::uint32_t>(id.size());
+        for (std::size_t r = 0; r < n; ++r) {
+            const std::uint32_t a = starts[r], b = starts[r + 1];
+            if (id[a] >= 0) F[static_cast<std::size_t>(id[a])] += prefix[b] - prefix[a];
         }
     }
 

@@ -289,30 +289,41 @@ struct DepthSpan {
     double depth(int x) const { return z0 + dzdx * x; }  ///< z/w at the centre of pixel x
 };
 
+namespace detail {
+
+/// Draws one screen-space triangle for a z-buffer: calls visit(DepthSpan) for every row's run
+/// of covered pixels, with z/w from the plane through the three vertices. Split from
+/// rasterize_depth so that a caller drawing a polygon's fan can project each vertex once.
+template <class Visit>
+void draw_depth(const ScreenVertex& v0, const ScreenVertex& v1, const ScreenVertex& v2, int width,
+                int height, Visit&& visit) {
+    // z = v0.z + dzdx (x - v0.x) + dzdy (y - v0.y), solved from the other two vertices.
+    const double x1 = v1.x - v0.x, y1 = v1.y - v0.y, z1 = v1.z - v0.z;
+    const double x2 = v2.x - v0.x, y2 = v2.y - v0.y, z2 = v2.z - v0.z;
+    const double det = x1 * y2 - x2 * y1;
+    if (det == 0.0 || !std::isfinite(det)) return;
+    const double inv_det = 1.0 / det;
+    const double dzdx = (z1 * y2 - z2 * y1) * inv_det, dzdy = (z2 * x1 - z1 * x2) * inv_det;
+    const double z0 = v0.z + dzdx * (0.5 - v0.x) + dzdy * (0.5 - v0.y);  // at pixel (0, 0)
+    // The plane by value: the caller's stores to its depth buffer cannot touch copies.
+    scan_triangle(v0, v1, v2, width, height, [&visit, z0, dzdx, dzdy](int y, int begin, int end) {
+        visit(DepthSpan{y, begin, end, z0 + dzdy * y, dzdx});
+    });
+}
+
+}  // namespace detail
+
 /// Rasterises one clip-space triangle for a z-buffer only: calls visit(DepthSpan) for every
 /// row's run of covered pixels, exactly those rasterize_triangle visits, with z/w from the plane
 /// through the three projected vertices. What the hemicube needs, without per-pixel barycentric
 /// weights, and with a tight loop per run for the caller's depth test.
 template <class Visit>
 void rasterize_depth(const std::array<Vec4, 3>& clip, int width, int height, Visit&& visit) {
-    detail::project_triangle(
-        clip, width, height,
-        [&](const detail::ScreenVertex& v0, const detail::ScreenVertex& v1,
-            const detail::ScreenVertex& v2) {
-            // z = v0.z + dzdx (x - v0.x) + dzdy (y - v0.y), solved from the other two vertices.
-            const double x1 = v1.x - v0.x, y1 = v1.y - v0.y, z1 = v1.z - v0.z;
-            const double x2 = v2.x - v0.x, y2 = v2.y - v0.y, z2 = v2.z - v0.z;
-            const double det = x1 * y2 - x2 * y1;
-            if (det == 0.0 || !std::isfinite(det)) return;
-            const double inv_det = 1.0 / det;
-            const double dzdx = (z1 * y2 - z2 * y1) * inv_det, dzdy = (z2 * x1 - z1 * x2) * inv_det;
-            const double z0 = v0.z + dzdx * (0.5 - v0.x) + dzdy * (0.5 - v0.y);  // at pixel (0, 0)
-            // The plane by value: the caller's stores to its depth buffer cannot touch copies.
-            detail::scan_triangle(v0, v1, v2, width, height,
-                                  [&visit, z0, dzdx, dzdy](int y, int begin, int end) {
-                                      visit(DepthSpan{y, begin, end, z0 + dzdy * y, dzdx});
-                                  });
-        });
+    detail::project_triangle(clip, width, height,
+                             [&](const detail::ScreenVertex& v0, const detail::ScreenVertex& v1,
+                                 const detail::ScreenVertex& v2) {
+                                 detail::draw_depth(v0, v1, v2, width, height, visit);
+                             });
 }
 
 }  // namespace radiosity
