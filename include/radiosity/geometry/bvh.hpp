@@ -117,13 +117,25 @@ class Bvh {
             }
             return false;
         };
+        // A whole node on or behind either plane holds nothing that could block: without this,
+        // a pair on a floor of n patches visits every floor leaf under its box (their boxes,
+        // rounded outwards to floats, reach just above the floor), and a row costs O(n^2). The
+        // margin covers that rounding; a triangle within it of a plane lies flat on the plane.
+        const double margin = eps + 4.0 * std::numeric_limits<float>::epsilon() * scale_;
+        auto box_behind = [&](const Vec3& l, const Vec3& h, const std::array<Vec3, 2>& plane) {
+            const Vec3 centre = 0.5 * (l + h), half = 0.5 * (h - l);
+            return glm::dot(centre - plane[0], plane[1]) + glm::dot(half, glm::abs(plane[1])) <=
+                   margin;
+        };
         std::array<std::uint32_t, stack_size> stack;
         std::size_t top = 0;
         stack[top++] = 0;
         while (top > 0) {
             const Node& node = nodes_[stack[--top]];
             for (int k = 0; k < width; ++k) {
-                if (!overlaps(node.corner(k, 0), node.corner(k, 1))) continue;
+                const Vec3 l = node.corner(k, 0), h = node.corner(k, 1);
+                if (!overlaps(l, h) || box_behind(l, h, plane_a) || box_behind(l, h, plane_b))
+                    continue;
                 if (node.count[k] == 0)
                     stack[top++] = node.first[k];
                 else if (blocks(node.first[k], node.count[k]))
