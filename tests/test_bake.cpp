@@ -328,10 +328,7 @@ TEST_CASE("the lightmap rendered back through its UVs matches the vertex-interpo
         render_lightmapped(m, bake_lightmap(m, size, size, no_inside_test()).image, cam, ro);
     // Where each pixel looks in the lightmap (z = 1 marks the square's pixels).
     const Image where = render_with(m, cam, ro, [&](std::size_t i, const glm::dvec3& w) {
-        const auto& t = m.triangles[i];
-        const glm::dvec2 uv = w.x * glm::dvec2(m.uvs[t[0]]) + w.y * glm::dvec2(m.uvs[t[1]]) +
-                              w.z * glm::dvec2(m.uvs[t[2]]);
-        return glm::vec3(float(uv.x * size), float(uv.y * size), 1.0f);
+        return glm::vec3(interpolate_uv(m, i, w) * float(size), 1.0f);
     });
     const double gradient = 0.5, texel = 1.0 / 120.0;  // largest |dB/dx|; a texel in units
     double interior = 0.0, border = 0.0;

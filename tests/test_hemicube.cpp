@@ -112,7 +112,18 @@ TEST_CASE("a screen between two squares hides them from each other, its back abs
 TEST_CASE("hemicube rows are deterministic and options are checked") {
     const auto& c = refdata::find_case("closed_box_1x1x1");
     const PatchTable t = refdata::table(c);
-    CHECK(hemicube_row(t, 3) == hemicube_row(t, 3));
+    // The same row before and after a row of another, larger scene on the same thread: the
+    // per-thread buffers carry nothing over from one row to the next.
+    const std::vector<float> first = hemicube_row(t, 3);
+    PatchTable big;
+    for (double dz : {0.0, 5.0})
+        for (std::size_t i = 0; i < t.size(); ++i) {
+            std::vector<Vec3> p(t.polygon(i).begin(), t.polygon(i).end());
+            for (Vec3& v : p) v.z += dz;
+            big.add(p);
+        }
+    REQUIRE(hemicube_row(big, 7).size() == big.size());
+    CHECK(hemicube_row(t, 3) == first);
     CHECK_THROWS_AS(Hemicube({127, true}), Error);
     CHECK_THROWS_AS(Hemicube({0, true}), Error);
     Hemicube unprepared;

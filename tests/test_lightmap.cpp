@@ -40,10 +40,7 @@ const Camera cornell_camera{{278, 273, -800}, {278, 273, 0}, {0, 1, 0}, 39.3};
 /// Per pixel, the lightmap texel the camera sees there (x, y) and 1, or 0 where it sees nothing.
 Image texel_image(const ShadedMesh& m, const Camera& camera, const RenderOptions& o, int size) {
     return render_with(m, camera, o, [&](std::size_t i, const glm::dvec3& w) {
-        const auto& t = m.triangles[i];
-        const glm::dvec2 uv = w.x * glm::dvec2(m.uvs[t[0]]) + w.y * glm::dvec2(m.uvs[t[1]]) +
-                              w.z * glm::dvec2(m.uvs[t[2]]);
-        return glm::vec3(float(uv.x * size), float(uv.y * size), 1.0f);
+        return glm::vec3(interpolate_uv(m, i, w) * float(size), 1.0f);
     });
 }
 

@@ -5,6 +5,7 @@
 #include <radiosity/shading/vertex_shading.hpp>
 
 #include <doctest/doctest.h>
+#include <support/scenes.hpp>
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
@@ -23,21 +24,7 @@ Mesh<float> mesh_with(const Scene<float>& s, const std::vector<float>& B) {
     return m;
 }
 
-/// Two unit squares side by side in the plane z = 0, sharing the edge x = 1.
-Scene<float> two_squares(bool same_material = true, double fold_degrees = 0.0) {
-    Scene<float> s;
-    const double a = fold_degrees * std::numbers::pi / 180.0;
-    s.positions = {{0, 0, 0},
-                   {1, 0, 0},
-                   {1, 1, 0},
-                   {0, 1, 0},
-                   {1 + std::cos(a), 0, std::sin(a)},
-                   {1 + std::cos(a), 1, std::sin(a)}};
-    s.faces = {{0, 1, 2, 3}, {1, 4, 5, 2}};
-    s.face_material = {0, same_material ? 0u : 1u};
-    s.materials = {{0.0f, 0.5f, "a"}, {0.0f, 0.5f, "b"}};
-    return s;
-}
+using test::two_squares;
 
 /// The colour of the output vertex at position p that belongs to a triangle touching face f
 /// (identified by a point strictly inside it).

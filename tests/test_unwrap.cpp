@@ -9,6 +9,7 @@
 #include <radiosity/mesh/mesh.hpp>
 
 #include <doctest/doctest.h>
+#include <support/scenes.hpp>
 
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 
@@ -161,12 +162,8 @@ std::vector<UvFace> uv_faces(const M& mesh) {
     std::vector<UvFace> out;
     for (auto f : mesh.faces()) {
         UvFace u;
-        for (auto h : mesh.fh_range(f)) {
-            const auto& p = mesh.point(mesh.to_vertex_handle(h));
-            const auto& t = mesh.texcoord2D(h);
-            u.point.emplace_back(p[0], p[1], p[2]);
-            u.uv.emplace_back(t[0], t[1]);
-        }
+        u.point = face_polygon(mesh, f);
+        for (const glm::vec2& t : corner_uvs(mesh, f)) u.uv.emplace_back(t);
         out.push_back(u);
     }
     return out;
@@ -513,7 +510,8 @@ TEST_CASE("unwrap: bad options, an empty mesh and too many charts throw") {
           UnwrapOptions{.gutter = 65}, UnwrapOptions{.max_chart_angle_degrees = 0.0},
           UnwrapOptions{.max_chart_angle_degrees = 90.0},
           UnwrapOptions{.max_chart_angle_degrees = -5.0},
-          UnwrapOptions{.max_chart_angle_degrees = nan}})
+          UnwrapOptions{.max_chart_angle_degrees = nan}, UnwrapOptions{.crease_angle_degrees = 0.0},
+          UnwrapOptions{.crease_angle_degrees = 181.0}, UnwrapOptions{.crease_angle_degrees = nan}})
         CHECK_THROWS_AS(make_lightmap_uvs(mesh, bad), Error);
     Mesh<float> empty;
     CHECK_THROWS_AS(make_lightmap_uvs(empty), Error);
@@ -529,18 +527,7 @@ TEST_CASE("unwrap: charts end at creases and at changes of material") {
     // A flat 2 x 1 strip of two quads (one chart), then the same strip with a second material,
     // then folded by 40 degrees (within the chart angle, beyond the crease angle).
     auto strip = [](double fold_degrees, std::uint32_t second_material) {
-        Scene<float> s;
-        const double a = fold_degrees * std::numbers::pi / 180.0;
-        s.positions = {{0, 0, 0},
-                       {1, 0, 0},
-                       {1, 1, 0},
-                       {0, 1, 0},
-                       {1 + std::cos(a), 0, std::sin(a)},
-                       {1 + std::cos(a), 1, std::sin(a)}};
-        s.faces = {{0, 1, 2, 3}, {1, 4, 5, 2}};
-        s.face_material = {0, second_material};
-        s.materials = {{0.0f, 0.5f, "a"}, {0.0f, 0.5f, "b"}};
-        return build_mesh(s);
+        return build_mesh(test::two_squares(second_material == 0, fold_degrees));
     };
     auto charts = [](Mesh<float> m, UnwrapOptions o = {}) {
         return make_lightmap_uvs(m, o).charts;

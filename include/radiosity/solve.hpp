@@ -18,13 +18,10 @@
 #include <radiosity/solver/progressive.hpp>
 
 #include <chrono>
-#include <new>
-#include <stdexcept>
 #include <cmath>
 #include <optional>
 #include <string>
 #include <variant>
-#include <vector>
 
 namespace radiosity {
 
@@ -111,28 +108,6 @@ Solution<S> solve_assembled(const System<S>& system, const Mx& F, const SolveOpt
     throw Error("solve: unknown solver");
 }
 
-/// n, after checking that an n x n float matrix can be allocated: a clear error, not
-/// std::bad_alloc, when there are too many patches for a dense matrix.
-inline std::size_t dense_size(std::size_t n) {
-    const double gib = double(n) * double(n) * sizeof(float) / (1024.0 * 1024.0 * 1024.0);
-    const std::string advice =
-        "; use fewer patches (a longer max edge) or the progressive "
-        "solver, which needs no matrix";
-    try {
-        std::vector<float> probe;
-        probe.reserve(n * n);
-    } catch (const std::bad_alloc&) {
-        throw Error("form factors: " + std::to_string(n) + " patches need a dense matrix of " +
-                    std::to_string(gib) + " GiB, more than can be allocated" + advice);
-    } catch (const std::length_error&) {
-        throw Error("form factors: " + std::to_string(n) +
-                    " patches are too many for a dense "
-                    "matrix" +
-                    advice);
-    }
-    return n;
-}
-
 /// Computes form factors with `method` and solves: progressive shooting takes rows on demand
 /// (no n x n matrix unless asked for); the other solvers gather over the assembled matrix.
 template <SpectrumType S, FormFactorMethod M>
@@ -144,7 +119,7 @@ void solve_with(SolveResult<S>& result, const System<S>& system, M& method, cons
         solution = Progressive(progressive_options(o)).solve(system, method, o.progress);
     } else {
         const auto t0 = std::chrono::steady_clock::now();
-        DenseMatrix F = assemble_dense(method, dense_size(n), o.progress);
+        DenseMatrix F = assemble_dense(method, n, o.progress);
         result.form_factor_seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         solution = solve_assembled(system, F, o);

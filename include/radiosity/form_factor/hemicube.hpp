@@ -123,15 +123,8 @@ struct HemicubeWorkspace {
     HemicubeView seen;
     std::vector<double> F, depth;
     std::vector<std::int32_t> id;
+    std::vector<std::uint32_t> starts;  // accumulate's run starts, grown to the largest face
 };
-
-/// Two unit vectors completing n to a right-handed orthonormal frame (Duff et al. 2017).
-inline void orthonormal_basis(const Vec3& n, Vec3& u, Vec3& v) {
-    const double s = std::copysign(1.0, n.z);
-    const double a = -1.0 / (s + n.z), b = n.x * n.y * a;
-    u = Vec3(1.0 + s * n.x * n.x * a, s * b, -s * n.x);
-    v = Vec3(b, s + n.y * n.y * a, -n.y);
-}
 
 }  // namespace detail
 
@@ -164,10 +157,10 @@ class Hemicube {
                 hi = glm::max(hi, p);
             }
         const double diagonal = patches.size() > 0 ? glm::length(hi - lo) : 1.0;
-        far_ = 2.0 * diagonal;
+        const double far = 2.0 * diagonal;
         near_ = 1e-7 * diagonal;
-        A_ = (far_ + near_) / (far_ - near_);  // z = A w + B: -w at the near plane, w at far
-        B_ = -2.0 * far_ * near_ / (far_ - near_);
+        A_ = (far + near_) / (far - near_);  // z = A w + B: -w at the near plane, w at far
+        B_ = -2.0 * far * near_ / (far - near_);
         index_patches(patches);
     }
 
@@ -181,7 +174,7 @@ class Hemicube {
         F.assign(t.size(), 0.0);
         for (std::size_t k = 0; k < 5; ++k) {
             item_buffer(work.seen, k, work.id, work.depth);
-            accumulate(k > 0 ? side_prefix_ : top_prefix_, work.id, F);
+            accumulate(k > 0 ? side_prefix_ : top_prefix_, work.id, work.starts, F);
         }
         // A patch seen from behind keeps its pixels (it occludes) but takes nothing: the light
         // that strikes its back is absorbed.
@@ -277,7 +270,7 @@ class Hemicube {
     std::array<Vec3, 3> frame(std::size_t i) const {
         const Vec3 n = table().normal(i);
         Vec3 u, v;
-        detail::orthonormal_basis(n, u, v);
+        orthonormal_basis(n, u, v);
         if (options_.rotate) {
             const double angle =
                 2.0 * std::numbers::pi * static_cast<double>(splitmix64(i) >> 11) * 0x1.0p-53;
@@ -377,9 +370,8 @@ class Hemicube {
     /// pattern the branch predictor could learn): each pixel writes its index to the list and
     /// advances the list's end only where the patch changes.
     static void accumulate(const std::vector<double>& prefix, const std::vector<std::int32_t>& id,
-                           std::vector<double>& F) {
-        thread_local std::vector<std::uint32_t> starts;
-        starts.resize(id.size() + 1);
+                           std::vector<std::uint32_t>& starts, std::vector<double>& F) {
+        if (starts.size() < id.size() + 1) starts.resize(id.size() + 1);  // never shrinks
         std::size_t n = 0;
         starts[n++] = 0;
         for (std::size_t k = 1; k < id.size(); ++k) {
@@ -399,7 +391,7 @@ class Hemicube {
     std::vector<double> top_prefix_, side_prefix_;  // prefix[k]: sum of the first k dff
     std::vector<std::uint32_t> first_{0};  // patch j's vertices: first_[j] .. first_[j + 1] - 1
     std::vector<double> radius_;           // of a sphere about patch j's centroid holding it
-    double near_ = 1e-7, far_ = 1.0, A_ = 1.0, B_ = 0.0;
+    double near_ = 1e-7, A_ = 1.0, B_ = 0.0;
 };
 
 static_assert(FormFactorMethod<Hemicube>);

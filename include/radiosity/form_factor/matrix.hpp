@@ -13,6 +13,8 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <new>
+#include <string>
 #include <span>
 #include <utility>
 #include <vector>
@@ -27,8 +29,23 @@ namespace radiosity {
 class DenseMatrix {
   public:
     DenseMatrix() = default;
-    /// An n x n matrix of zeros.
-    explicit DenseMatrix(std::size_t n) : n_(n), f_(n * n, 0.0f) {}
+    /// An n x n matrix of zeros. Throws Error (not std::bad_alloc) when it cannot be allocated,
+    /// naming its size and what to do instead.
+    explicit DenseMatrix(std::size_t n) : n_(n) {
+        const std::string advice =
+            "; use fewer patches (a longer max edge) or the progressive "
+            "solver, which needs no matrix";
+        if (n != 0 && n > f_.max_size() / n)
+            throw Error("form factors: " + std::to_string(n) +
+                        " patches are too many for a dense matrix" + advice);
+        try {
+            f_.assign(n * n, 0.0f);
+        } catch (const std::bad_alloc&) {
+            throw Error("form factors: " + std::to_string(n) + " patches need a dense matrix of " +
+                        std::to_string(double(n) * double(n) * sizeof(float) / double(1 << 30)) +
+                        " GiB, more than can be allocated" + advice);
+        }
+    }
 
     std::size_t size() const { return n_; }  ///< number of patches n
     /// Row i, F_i0 .. F_i(n-1).

@@ -90,8 +90,9 @@ inline nlohmann::json gltf_document(const ShadedMesh& mesh, double exposure_scal
             position.push_back(p);
             lo[k] = std::min(lo[k], p);
             hi[k] = std::max(hi[k], p);
-            colour.push_back(
-                std::clamp(static_cast<float>(exposure_scale * mesh.colours[v][k]), 0.0f, 1.0f));
+            if (!lightmap_png)  // with a lightmap, the texture holds the light
+                colour.push_back(std::clamp(static_cast<float>(exposure_scale * mesh.colours[v][k]),
+                                            0.0f, 1.0f));
         }
     for (const glm::vec2& t : mesh.uvs) uv.insert(uv.end(), {t.x, t.y});
     std::vector<std::uint32_t> index;

@@ -337,7 +337,7 @@ class GltfSceneReader {
         std::vector<glm::vec2> corners{uv[t[0]], uv[t[1]], uv[t[2]]};
         // Tiled texture coordinates (outside [0, 1]) cannot address a lightmap: same rule as OBJ.
         for (const glm::vec2& c : corners)
-            if (!(c.x >= 0.0f && c.x <= 1.0f && c.y >= 0.0f && c.y <= 1.0f)) all_uvs_ = false;
+            if (!in_unit_square(c)) all_uvs_ = false;
         s.face_uvs.push_back(std::move(corners));
     }
 

@@ -126,7 +126,7 @@ Scene<S> read_obj(const std::string& path) {
             if (m < 0) uses_default = true;
             // Texture coordinates outside [0, 1] (a tiled texture) cannot be lightmap UVs.
             for (const glm::vec2& x : uv)
-                if (!(x.x >= 0.0f && x.x <= 1.0f && x.y >= 0.0f && x.y <= 1.0f)) all_uvs = false;
+                if (!in_unit_square(x)) all_uvs = false;
             if (uv.size() != face.size()) all_uvs = false;
             scene.faces.push_back(std::move(face));
             scene.face_uvs.push_back(std::move(uv));

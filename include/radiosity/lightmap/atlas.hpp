@@ -190,8 +190,6 @@ Atlas make_lightmap_uvs(M& mesh, const UnwrapOptions& options = {}) {
     atlas.texel_density = density;
     atlas.charts = charts.size();
     atlas.face_chart.assign(mesh.n_faces(), 0);
-    mesh.request_halfedge_texcoords2D();
-    using T = typename M::TexCoord2D::value_type;
     const double W = atlas.width, H = atlas.height;
     for (std::size_t c = 0; c < charts.size(); ++c) {
         const Chart& chart = charts[c];
@@ -200,14 +198,10 @@ Atlas make_lightmap_uvs(M& mesh, const UnwrapOptions& options = {}) {
         for (std::size_t k = 0; k < chart.faces.size(); ++k) {
             const auto f = mesh.face_handle(static_cast<int>(chart.faces[k]));
             atlas.face_chart[chart.faces[k]] = static_cast<std::uint32_t>(c);
-            const auto corners = chart.corners(k);
-            std::size_t j = 0;
-            // fh_range visits the halfedges whose to_vertex are the corners in fv_range order.
-            for (auto h : mesh.fh_range(f)) {
-                const Vec2& p = corners[j++];
-                mesh.set_texcoord2D(h, {static_cast<T>((x0 + p.x * density) / W),
-                                        static_cast<T>((y0 + p.y * density) / H)});
-            }
+            std::vector<glm::vec2> uv;
+            for (const Vec2& p : chart.corners(k))
+                uv.emplace_back((x0 + p.x * density) / W, (y0 + p.y * density) / H);
+            set_corner_uvs(mesh, f, uv);
         }
     }
     return atlas;

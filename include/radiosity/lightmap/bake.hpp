@@ -81,10 +81,9 @@ inline double nearest_on_segment(const glm::dvec2& a, const glm::dvec2& b, const
 /// Inside (edge functions of one sign, Pineda 1988) the point is p itself; outside, the
 /// nearest point of the three edges.
 inline TexelHit nearest_point(const std::array<glm::dvec2, 3>& t, const glm::dvec2& p) {
-    auto cross = [](const glm::dvec2& u, const glm::dvec2& v) { return u.x * v.y - u.y * v.x; };
-    const double area = cross(t[1] - t[0], t[2] - t[0]);
-    const double w0 = cross(t[2] - t[1], p - t[1]), w1 = cross(t[0] - t[2], p - t[2]),
-                 w2 = cross(t[1] - t[0], p - t[0]);
+    const double area = cross2(t[1] - t[0], t[2] - t[0]);
+    const double w0 = cross2(t[2] - t[1], p - t[1]), w1 = cross2(t[0] - t[2], p - t[2]),
+                 w2 = cross2(t[1] - t[0], p - t[0]);
     TexelHit hit;
     if (area != 0.0 && w0 * area >= 0.0 && w1 * area >= 0.0 && w2 * area >= 0.0) {
         hit.distance2 = 0.0;
@@ -110,15 +109,14 @@ inline TexelHit nearest_point(const std::array<glm::dvec2, 3>& t, const glm::dve
 /// with the triangle's edge normals (the box's own axes are covered by the caller's bounding
 /// box). A degenerate triangle is a segment: the square must straddle its line.
 inline bool square_touches(const std::array<glm::dvec2, 3>& t, double x, double y) {
-    auto cross = [](const glm::dvec2& u, const glm::dvec2& v) { return u.x * v.y - u.y * v.x; };
-    const double area = cross(t[1] - t[0], t[2] - t[0]);
+    const double area = cross2(t[1] - t[0], t[2] - t[0]);
     const std::array<glm::dvec2, 4> corner{glm::dvec2(x, y), glm::dvec2(x + 1, y),
                                            glm::dvec2(x, y + 1), glm::dvec2(x + 1, y + 1)};
     for (int e = 0; e < 3; ++e) {
         const glm::dvec2 a = t[e], d = t[(e + 1) % 3] - a;
         double lo = std::numeric_limits<double>::infinity(), hi = -lo;
         for (const auto& c : corner) {
-            const double f = cross(d, c - a);
+            const double f = cross2(d, c - a);
             lo = std::min(lo, f);
             hi = std::max(hi, f);
         }

@@ -15,6 +15,7 @@
 #include <radiosity/geometry/vec.hpp>
 #include <radiosity/mesh/mesh.hpp>
 #include <radiosity/mesh/weld.hpp>
+#include <radiosity/shading/vertex_shading.hpp>
 
 #include <algorithm>
 #include <array>
@@ -155,7 +156,7 @@ using Triangle2 = std::array<Vec2, 3>;
 
 /// Twice the signed area of a 2-D triangle: positive when counter-clockwise.
 inline double signed_area2(const Vec2& a, const Vec2& b, const Vec2& c) {
-    return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+    return cross2(b - a, c - a);
 }
 
 /// Whether two triangles' interiors overlap by more than tol, by the separating axis theorem:
@@ -252,6 +253,7 @@ struct PlaneFrame {
     Vec3 t, b, n;
     explicit PlaneFrame(const Vec3& normal) : n(normal) {
         // Cross with the axis least aligned with n: never near-parallel, so t is well defined.
+        // (orthonormal_basis would do as well, but would turn every chart of the UV layout.)
         const Vec3 a = std::abs(n.x) <= std::abs(n.y) && std::abs(n.x) <= std::abs(n.z)
                            ? Vec3(1, 0, 0)
                        : std::abs(n.y) <= std::abs(n.z) ? Vec3(0, 1, 0)
@@ -332,7 +334,6 @@ inline Vec2 min_area_rectangle_axis(std::span<const Vec2> hull) {
         const Vec2 up(-e.y, e.x);  // into the polygon, which lies to the left of its edges
         auto along = [&](std::size_t k) { return glm::dot(hull[k % n], e); };
         auto across = [&](std::size_t k) { return glm::dot(hull[k % n], up); };
-        if (i == 0) right = 1;
         while (along(right + 1) > along(right)) right = (right + 1) % n;
         if (i == 0) top = right;
         while (across(top + 1) > across(top)) top = (top + 1) % n;
@@ -376,14 +377,14 @@ std::vector<Chart> make_charts(const M& mesh, const ChartOptions& options = {}) 
     const double min_cos = std::cos(angle * std::numbers::pi / 180.0);
     const double crease_cos = std::cos(options.crease_angle_degrees * std::numbers::pi / 180.0);
     // Whether light is continuous across the edge between faces a and b (as smooth shading has it).
-    auto smooth = [&](std::uint32_t a, std::uint32_t b) {
-        if (glm::dot(g.normal[a], g.normal[b]) < crease_cos) return false;
+    auto material = [&](std::uint32_t f) -> std::uint32_t {
         if constexpr (requires { mesh.data(typename M::FaceHandle(0)).material; })
-            if (options.split_materials &&
-                mesh.data(typename M::FaceHandle(static_cast<int>(a))).material !=
-                    mesh.data(typename M::FaceHandle(static_cast<int>(b))).material)
-                return false;
-        return true;
+            if (options.split_materials)
+                return mesh.data(typename M::FaceHandle(static_cast<int>(f))).material;
+        return 0;
+    };
+    auto smooth = [&](std::uint32_t a, std::uint32_t b) {
+        return light_continuous(g.normal[a], g.normal[b], material(a), material(b), crease_cos);
     };
     // Overlaps smaller than this (scene units) are rounding, e.g. two unmerged copies of an edge.
     const double tol = 1e-8 * g.diagonal;

@@ -54,7 +54,7 @@ double uv_texel_density(const M& mesh, int width, int height) {
         for (std::size_t k = 1; k + 1 < uv.size(); ++k) {
             const glm::dvec2 a = glm::dvec2(uv[k] - uv[0]) * glm::dvec2(width, height),
                              b = glm::dvec2(uv[k + 1] - uv[0]) * glm::dvec2(width, height);
-            uv_area += 0.5 * std::abs(a.x * b.y - a.y * b.x);
+            uv_area += 0.5 * std::abs(cross2(a, b));
         }
         area += polygon_area(poly);
     }

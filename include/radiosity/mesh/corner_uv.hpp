@@ -15,6 +15,12 @@
 
 namespace radiosity {
 
+/// Whether a UV can address a lightmap: both coordinates finite and in [0, 1] (a tiled texture's
+/// coordinates are not lightmap UVs).
+inline bool in_unit_square(const glm::vec2& uv) {
+    return uv.x >= 0.0f && uv.x <= 1.0f && uv.y >= 0.0f && uv.y <= 1.0f;
+}
+
 /// Whether the mesh carries per-corner lightmap UVs.
 template <class M>
 bool has_corner_uvs(const M& mesh) {

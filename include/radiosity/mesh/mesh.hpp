@@ -109,7 +109,7 @@ void validate_uvs(const Scene<S>& scene) {
             throw Error(at + " has " + std::to_string(scene.face_uvs[f].size()) + " UVs for " +
                         std::to_string(scene.faces[f].size()) + " corners");
         for (const glm::vec2& t : scene.face_uvs[f])
-            if (!(t.x >= 0.0f && t.x <= 1.0f && t.y >= 0.0f && t.y <= 1.0f))
+            if (!in_unit_square(t))
                 throw Error(at + " has a lightmap UV outside [0, 1] (or not a number)");
     }
 }

@@ -132,6 +132,13 @@ inline Image render(const ShadedMesh& mesh, const Camera& camera,
     });
 }
 
+/// The lightmap UV at barycentric weights w of triangle i (the mesh must have UVs).
+inline glm::vec2 interpolate_uv(const ShadedMesh& mesh, std::size_t i, const glm::dvec3& w) {
+    const auto& t = mesh.triangles[i];
+    return glm::vec2(w.x * glm::dvec2(mesh.uvs[t[0]]) + w.y * glm::dvec2(mesh.uvs[t[1]]) +
+                     w.z * glm::dvec2(mesh.uvs[t[2]]));
+}
+
 /// Renders the mesh textured with a lightmap, as a game engine shows a baked scene: the lightmap
 /// UVs interpolated perspective-correctly, the lightmap sampled bilinearly. Throws Error if the
 /// mesh has no UVs or the lightmap is empty.
@@ -142,10 +149,7 @@ inline Image render_lightmapped(const ShadedMesh& mesh, const Image& lightmap, c
     if (lightmap.width < 1 || lightmap.height < 1)
         throw Error("render_lightmapped: the lightmap is empty");
     return render_with(mesh, camera, options, [&](std::size_t i, const glm::dvec3& w) {
-        const auto& t = mesh.triangles[i];
-        const glm::dvec2 uv = w.x * glm::dvec2(mesh.uvs[t[0]]) + w.y * glm::dvec2(mesh.uvs[t[1]]) +
-                              w.z * glm::dvec2(mesh.uvs[t[2]]);
-        return sample_bilinear(lightmap, glm::vec2(uv));
+        return sample_bilinear(lightmap, interpolate_uv(mesh, i, w));
     });
 }
 

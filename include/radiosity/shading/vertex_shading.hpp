@@ -37,6 +37,14 @@ inline void fan(ShadedMesh& out, const std::vector<std::uint32_t>& corners) {
 }
 }  // namespace detail
 
+/// Whether smooth shading carries the light across the edge between two faces: the same
+/// material, and unit normals at most the crease angle apart (cos_crease its cosine). Lightmap
+/// charts end where this is false, so that no jump of the light lies inside a chart.
+inline bool light_continuous(const Vec3& normal_a, const Vec3& normal_b, std::uint32_t material_a,
+                             std::uint32_t material_b, double cos_crease) {
+    return material_a == material_b && glm::dot(normal_a, normal_b) >= cos_crease;
+}
+
 /// Flat shading: every patch gets its own vertices, coloured with its radiosity B (as RGB), with
 /// the patch's lightmap UVs if it has them. Cost: O(faces).
 template <SpectrumType S>
@@ -73,9 +81,9 @@ ShadedMesh smooth_shading(const Mesh<S>& mesh, const SmoothShadingOptions& optio
         area[static_cast<std::size_t>(f.idx())] = polygon_area(poly);
     }
     auto smooth = [&](typename Mesh<S>::FaceHandle a, typename Mesh<S>::FaceHandle b) {
-        return mesh.data(a).material == mesh.data(b).material &&
-               glm::dot(normal[static_cast<std::size_t>(a.idx())],
-                        normal[static_cast<std::size_t>(b.idx())]) >= cos_crease;
+        return light_continuous(normal[static_cast<std::size_t>(a.idx())],
+                                normal[static_cast<std::size_t>(b.idx())], mesh.data(a).material,
+                                mesh.data(b).material, cos_crease);
     };
     ShadedMesh out;
     // Output vertex of (mesh vertex, face), filled vertex by vertex.
@@ -99,29 +107,26 @@ ShadedMesh smooth_shading(const Mesh<S>& mesh, const SmoothShadingOptions& optio
             if (f1.is_valid() && f2.is_valid() && smooth(f1, f2))
                 group[find(index(f1))] = find(index(f2));
         }
-        // (group root, UV) -> output vertex
+        // Area-weighted sum of B and area of each group, then one output vertex per (group,
+        // UV) pair.
+        std::map<std::size_t, std::pair<glm::dvec3, double>> sums;
+        for (std::size_t m = 0; m < faces.size(); ++m) {
+            const double a = area[static_cast<std::size_t>(faces[m].idx())];
+            auto& [sum, weight] = sums[find(m)];
+            sum += a * glm::dvec3(detail::rgb_of(mesh.data(faces[m]).radiosity));
+            weight += a;
+        }
         std::map<std::tuple<std::size_t, float, float>, std::uint32_t> made;
-        std::map<std::size_t, glm::vec3> group_colour;
         for (std::size_t k = 0; k < faces.size(); ++k) {
             const std::size_t root = find(k);
             const glm::vec2 uv = corner_uv(mesh, faces[k], v);
             auto [it, fresh] = made.try_emplace({root, uv.x, uv.y},
                                                 static_cast<std::uint32_t>(out.positions.size()));
-            if (fresh && group_colour.count(root) == 0) {
-                glm::dvec3 sum(0.0);
-                double weight = 0.0;
-                for (std::size_t m = 0; m < faces.size(); ++m) {
-                    if (find(m) != root) continue;
-                    const double a = area[static_cast<std::size_t>(faces[m].idx())];
-                    sum += a * glm::dvec3(detail::rgb_of(mesh.data(faces[m]).radiosity));
-                    weight += a;
-                }
-                group_colour[root] = glm::vec3(sum / weight);
-            }
             if (fresh) {
                 const auto& p = mesh.point(v);
+                const auto& [sum, weight] = sums.at(root);
                 out.positions.emplace_back(p[0], p[1], p[2]);
-                out.colours.push_back(group_colour.at(root));
+                out.colours.push_back(glm::vec3(sum / weight));
                 if (has_corner_uvs(mesh)) out.uvs.push_back(uv);
             }
             corner[{v.idx(), faces[k].idx()}] = it->second;
