@@ -29,7 +29,8 @@ struct Args {
     std::string scene = "cornell";
     std::string form_factor = "hemicube";
     std::string solver = "gauss-seidel";
-    double max_edge = -1.0;  // negative: choose from the scene size
+    double max_edge = -1.0;  // negative: choose from the scene size (unless max_area is set)
+    double max_area = 0.0;   // > 0: RRV's `divide` rule
     double tolerance = 1e-4;
     std::string image;
     int width = 512, height = 512;
@@ -256,7 +257,10 @@ int run(const Args& a) {
     radiosity::SolveOptions o;
     o.form_factor = radiosity::parse_form_factor_kind(a.form_factor);
     o.solver = radiosity::parse_solver_kind(a.solver);
-    o.subdivision.max_edge = a.max_edge >= 0.0 ? a.max_edge : scene_diagonal(scene) / 30.0;
+    o.subdivision.max_edge = a.max_edge >= 0.0  ? a.max_edge
+                             : a.max_area > 0.0 ? 0.0
+                                                : scene_diagonal(scene) / 30.0;
+    o.subdivision.max_area = a.max_area;
     o.tolerance = a.tolerance;
     if (a.resolution > 0) o.hemicube.resolution = a.resolution;
     if (a.samples > 0) o.ray_cast.samples = a.samples;
@@ -371,6 +375,11 @@ int main(int argc, char** argv) {
                    "subdivide patches to this edge length in scene units (0 keeps the input "
                    "faces; default: 1/30 of the scene's bounding-box diagonal)")
         ->check(CLI::NonNegativeNumber);
+    app.add_option("--max-area,--divide", a.max_area,
+                   "subdivide patches until none is larger than this area, each split 1->4 at "
+                   "its edge midpoints as RRV's `divide` does (then --max-edge defaults to no "
+                   "limit); neighbours are split alike, so there are no T-junctions")
+        ->check(CLI::PositiveNumber);
     app.add_option("--tolerance", a.tolerance, "relative residual at which the solver stops")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();

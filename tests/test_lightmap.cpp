@@ -293,5 +293,6 @@ TEST_CASE("the texel rule never makes more patches than max_patches") {
     CHECK(r.solution.patches.size() <= 600);
     CHECK(r.solution.patches.size() > 300);  // the edge grows no more than it must
     CHECK(r.patch_edge > o.texels_per_patch / r.atlas.texel_density);
-    CHECK(subdivided_face_count(scene, r.patch_edge) == r.solution.patches.size());
+    CHECK(subdivided_face_count(scene, SubdivisionOptions{r.patch_edge}) ==
+          r.solution.patches.size());
 }

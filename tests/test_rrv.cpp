@@ -3,6 +3,7 @@
 // overrides), RRV's example rooms loading into closed, inward-facing rooms, the write-back read
 // again, and bad input refused with file and line.
 #include <radiosity/io/rrv.hpp>
+#include <radiosity/mesh/subdivide.hpp>
 
 #include <doctest/doctest.h>
 
@@ -109,6 +110,26 @@ TEST_CASE("RRV's rooms load: closed, lit, walls facing in, teapot included") {
         }
         CHECK(walls == 12);  // six walls of two triangles
     }
+}
+
+TEST_CASE("RRV's divide rule on room3: no patch over 1.0, at least RRV's 9,680 patches") {
+    const Mesh<Rgb> mesh = build_mesh(read_rrv<Rgb>(rrv_dir + "/room3.xml"));
+    SubdivisionOptions o;
+    o.max_area = 1.0;  // RRV's default divide
+    const Mesh<Rgb> sub = subdivide(mesh, o);
+    // RRV splits each triangle alone and leaves T-junctions (9,680 patches); splitting the
+    // neighbours along a shared edge alike can only add patches.
+    CHECK(sub.n_faces() >= 9680);
+    CHECK(sub.n_faces() <= 9680 * 11 / 10);
+    double largest = 0.0, total = 0.0, before = 0.0;
+    for (auto f : sub.faces()) {
+        const double a = polygon_area(face_polygon(sub, f));
+        largest = std::max(largest, a);
+        total += a;
+    }
+    for (auto f : mesh.faces()) before += polygon_area(face_polygon(mesh, f));
+    CHECK(largest <= 1.0);
+    CHECK(total == doctest::Approx(before).epsilon(1e-9));
 }
 
 TEST_CASE("RRV write-back: a radiosity per triangle, read again") {

@@ -116,6 +116,47 @@ TEST_CASE("triangles split into k^2 triangles, conforming with their neighbours"
     CHECK(longest_edge(sub) <= 0.3 + 1e-12);
 }
 
+double largest_area(const Mesh<float>& m) {
+    double a = 0.0;
+    for (auto f : m.faces()) a = std::max(a, polygon_area(face_polygon(m, f)));
+    return a;
+}
+
+TEST_CASE("max_area: RRV's rule of 1 -> 4 splits at edge midpoints until small enough") {
+    Scene<float> s;  // a square as two triangles of area 0.5 with separate diagonal vertices
+    s.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    s.faces = {{0, 1, 2}, {3, 4, 5}};
+    s.face_material = {0, 0};
+    s.materials = {{0.0f, 0.5f, "grey"}};
+    const auto mesh = build_mesh(s);
+    // 0.5 -> 0.125 -> 0.03125: two rounds for 0.1, so 4 segments a side and 16 children each.
+    SubdivisionOptions o;
+    o.max_area = 0.1;
+    const auto sub = subdivide(mesh, o);
+    CHECK(sub.n_faces() == 2 * 16);
+    CHECK(subdivided_face_count(mesh, o) == sub.n_faces());
+    CHECK(boundary_edges(sub) == 4 * 4);  // conforming along the diagonal
+    CHECK(total_area(sub) == doctest::Approx(1.0).epsilon(1e-12));
+    CHECK(largest_area(sub) == doctest::Approx(0.03125).epsilon(1e-12));
+    o.max_area = 0.125;  // exactly reached after one round: no second
+    CHECK(subdivide(mesh, o).n_faces() == 2 * 4);
+    // Both limits: the edge rule asks for 5 segments (the diagonal), more than the area's 4.
+    o.max_area = 0.1;
+    o.max_edge = 0.3;
+    CHECK(subdivide(mesh, o).n_faces() == 2 * 25);
+    // A quad is split 1 -> 4 the same way.
+    const auto cube = build_mesh(separate_cube());  // faces of area 1
+    o = {};
+    o.max_area = 0.3;
+    const auto q = subdivide(cube, o);
+    CHECK(q.n_faces() == 6 * 4);
+    CHECK(largest_area(q) == doctest::Approx(0.25).epsilon(1e-12));
+    o.max_area = -1.0;
+    CHECK_THROWS_AS(subdivide(cube, o), Error);
+    o.max_area = std::nan("");
+    CHECK_THROWS_AS(subdivide(cube, o), Error);
+}
+
 TEST_CASE("max_edge 0 keeps the mesh, bad values and explosions are refused") {
     const auto mesh = build_mesh(separate_cube());
     CHECK(subdivide(mesh, {0.0}).n_faces() == 6);

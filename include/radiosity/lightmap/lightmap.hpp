@@ -83,7 +83,7 @@ Atlas lightmap_atlas(Mesh<S>& mesh, const LightmapOptions& o, bool& generated) {
 template <SpectrumType S>
 double texel_patch_edge(const Mesh<S>& mesh, double edge, std::size_t max_patches) {
     for (int attempt = 0; attempt < 16; ++attempt) {
-        const std::size_t n = subdivided_face_count(mesh, edge);
+        const std::size_t n = subdivided_face_count(mesh, SubdivisionOptions{edge});
         if (n <= max_patches) return edge;
         edge *= 1.02 * std::sqrt(double(n) / double(max_patches));
     }

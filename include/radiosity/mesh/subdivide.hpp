@@ -25,7 +25,8 @@ namespace radiosity {
 
 /// Settings of the subdivision.
 struct SubdivisionOptions {
-    double max_edge = 0.0;              ///< longest edge allowed; 0 keeps the faces
+    double max_edge = 0.0;  ///< longest edge allowed; 0: no limit
+    double max_area = 0.0;  ///< largest patch area allowed (RRV's `divide`); 0: no limit
     std::size_t max_faces = 4'000'000;  ///< refuse to make more patches than this
 };
 
@@ -88,7 +89,28 @@ struct EdgeSplits {
     std::vector<std::size_t> segments;                 // per edge
 };
 
-inline EdgeSplits split_edges(const Welded& w, double max_edge) {
+/// Segments per side that RRV's area rule gives a face of this area: m rounds of 1 -> 4 splits at
+/// edge midpoints, the fewest that bring each child's area to at most max_area, are 2^m segments.
+inline std::size_t area_segments(double area, double max_area) {
+    std::size_t k = 1;
+    while (area > max_area && k < (std::size_t{1} << 20)) {
+        area /= 4.0;
+        k *= 2;
+    }
+    return k;
+}
+
+/// Area of welded polygon f (convex, so a fan of triangles).
+inline double polygon_area(const Welded& w, std::size_t f) {
+    const auto& c = w.face[f];
+    double a = 0.0;
+    for (std::size_t k = 1; k + 1 < c.size(); ++k)
+        a += 0.5 * glm::length(glm::cross(w.point[c[k]] - w.point[c[0]],
+                                          w.point[c[k + 1]] - w.point[c[0]]));
+    return a;
+}
+
+inline EdgeSplits split_edges(const Welded& w, const SubdivisionOptions& options) {
     EdgeSplits e;
     std::vector<double> length;
     for (const auto& f : w.face) {
@@ -102,10 +124,17 @@ inline EdgeSplits split_edges(const Welded& w, double max_edge) {
         }
         e.face_edges.push_back(ids);
     }
-    DisjointSets classes(length.size());
     std::vector<std::size_t> need(length.size(), 1);
-    for (std::size_t k = 0; k < length.size(); ++k)
-        need[k] = static_cast<std::size_t>(std::max(1.0, std::ceil(length[k] / max_edge - 1e-9)));
+    if (options.max_edge > 0.0)
+        for (std::size_t k = 0; k < length.size(); ++k)
+            need[k] = static_cast<std::size_t>(
+                std::max(1.0, std::ceil(length[k] / options.max_edge - 1e-9)));
+    if (options.max_area > 0.0)
+        for (std::size_t f = 0; f < w.face.size(); ++f) {
+            const std::size_t k = area_segments(polygon_area(w, f), options.max_area);
+            for (std::size_t id : e.face_edges[f]) need[id] = std::max(need[id], k);
+        }
+    DisjointSets classes(length.size());
     // The most any edge of a class needs, at the class's representative.
     auto class_needs = [&] {
         std::vector<std::size_t> most(length.size(), 1);
@@ -322,7 +351,7 @@ struct SubdivisionPlan {
 };
 
 template <SpectrumType S>
-SubdivisionPlan plan_subdivision(const Mesh<S>& mesh, double max_edge) {
+SubdivisionPlan plan_subdivision(const Mesh<S>& mesh, const SubdivisionOptions& options) {
     Vec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
     for (auto v : mesh.vertices()) {
         const auto& p = mesh.point(v);
@@ -331,7 +360,7 @@ SubdivisionPlan plan_subdivision(const Mesh<S>& mesh, double max_edge) {
     }
     const double eps = mesh.n_vertices() > 0 ? 1e-9 * glm::length(hi - lo) : 0.0;
     SubdivisionPlan plan{weld(mesh, eps), {}, 0.0};
-    plan.splits = split_edges(plan.welded, max_edge);
+    plan.splits = split_edges(plan.welded, options);
     for (std::size_t f = 0; f < plan.welded.face.size(); ++f) {
         const auto& ids = plan.splits.face_edges[f];
         const auto& k = plan.splits.segments;
@@ -341,35 +370,42 @@ SubdivisionPlan plan_subdivision(const Mesh<S>& mesh, double max_edge) {
     return plan;
 }
 
-inline void check_max_edge(double max_edge) {
-    if (!std::isfinite(max_edge) || max_edge < 0.0)
-        throw Error("subdivision: max edge must be a finite length >= 0, not " +
-                    std::to_string(max_edge));
+inline void check_limit(double value, const char* what) {
+    if (!std::isfinite(value) || value < 0.0)
+        throw Error(std::string("subdivision: ") + what + " must be finite and >= 0, not " +
+                    std::to_string(value));
+}
+
+/// Checks the options; true when they ask for any subdivision at all.
+inline bool subdivides(const SubdivisionOptions& options) {
+    check_limit(options.max_edge, "max edge");
+    check_limit(options.max_area, "max area");
+    return options.max_edge > 0.0 || options.max_area > 0.0;
 }
 }  // namespace detail
 
-/// How many patches subdivide(mesh, {max_edge}) would make, without making them (for choosing
-/// a max edge that fits a patch budget). Cost: O(n log n) in the input.
+/// How many patches subdivide(mesh, options) would make, without making them (for choosing
+/// limits that fit a patch budget). Cost: O(n log n) in the input.
 template <SpectrumType S>
-std::size_t subdivided_face_count(const Mesh<S>& mesh, double max_edge) {
-    detail::check_max_edge(max_edge);
-    if (max_edge == 0.0) return mesh.n_faces();
-    return static_cast<std::size_t>(detail::plan_subdivision(mesh, max_edge).faces);
+std::size_t subdivided_face_count(const Mesh<S>& mesh, const SubdivisionOptions& options) {
+    if (!detail::subdivides(options)) return mesh.n_faces();
+    return static_cast<std::size_t>(detail::plan_subdivision(mesh, options).faces);
 }
 
 /// Conforming subdivision (see the file comment): returns a new mesh whose edges are at most
-/// max_edge long, where coincident input vertices (within 1e-9 of the scene's size) are merged
-/// first so that faces meeting along a geometric edge share the new vertices too. Children keep
-/// their parent's data (E, R, material, surface), orientation and, interpolated, lightmap UVs.
-/// max_edge = 0 returns a copy. Throws Error for a negative or non-finite max_edge, or when more
-/// than max_faces would result. Cost: O(output size + n log n).
+/// max_edge long and whose patches have at most max_area (by RRV's rule, area_segments), where
+/// coincident input vertices (within 1e-9 of the scene's size) are merged first so that faces
+/// meeting along a geometric edge share the new vertices too. Children keep their parent's data
+/// (E, R, material, surface), orientation and, interpolated, lightmap UVs. With both limits 0 it
+/// returns a copy. Throws Error for a negative or non-finite limit, or when more than max_faces
+/// would result. Cost: O(output size + n log n).
 template <SpectrumType S>
 Mesh<S> subdivide(const Mesh<S>& mesh, const SubdivisionOptions& options = {}) {
-    detail::check_max_edge(options.max_edge);
-    if (options.max_edge == 0.0) return mesh;
-    const detail::SubdivisionPlan plan = detail::plan_subdivision(mesh, options.max_edge);
+    if (!detail::subdivides(options)) return mesh;
+    const detail::SubdivisionPlan plan = detail::plan_subdivision(mesh, options);
     if (plan.faces > double(options.max_faces))
-        throw Error("subdivision: max edge " + std::to_string(options.max_edge) + " would make " +
+        throw Error("subdivision: max edge " + std::to_string(options.max_edge) + " and max area " +
+                    std::to_string(options.max_area) + " would make " +
                     std::to_string(static_cast<long long>(plan.faces)) + " patches (more than " +
                     std::to_string(options.max_faces) + ")");
     return detail::SubdivisionBuilder<S>(mesh, plan.welded, plan.splits).build();
