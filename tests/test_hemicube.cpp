@@ -130,3 +130,34 @@ TEST_CASE("hemicube rows are deterministic and options are checked") {
     std::vector<float> row(2);
     CHECK_THROWS_AS(unprepared.row(0, row), Error);
 }
+
+TEST_CASE("frustum outcodes: the SIMD path sets exactly the bits of the one-at-a-time definition") {
+    using detail::Outcode;
+    const double near = 1e-7;
+    // Ties decide the bits: values equal to 0, +-near, and u = +-n, v = +-u, plus random ones.
+    const std::vector<double> special = {0.0, -0.0, near, -near, 1.0, -1.0, 0.5, -0.5, 1e-300};
+    std::uint64_t state = 42;
+    auto random = [&] {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return static_cast<double>(static_cast<std::int64_t>(state >> 11) % 2001 - 1000) / 500.0;
+    };
+    std::size_t checked = 0;
+    for (double u : special)
+        for (double v : special)
+            for (double n : special) {
+                CHECK(Outcode::of(u, v, n, near) == Outcode::of_scalar(u, v, n, near));
+                ++checked;
+            }
+    std::size_t differ = 0;
+    for (int k = 0; k < 100000; ++k) {
+        const double u = random(), v = random(), n = random();
+        differ += Outcode::of(u, v, n, near) != Outcode::of_scalar(u, v, n, near);
+    }
+    CHECK(differ == 0);
+    CHECK(checked == special.size() * special.size() * special.size());
+    // A vertex straight above the centre is inside the top face only.
+    const std::uint32_t up = Outcode::of(0.0, 0.0, 1.0, near);
+    CHECK((up & Outcode::face[0]) == 0u);
+    for (std::size_t f = 1; f < 5; ++f) CHECK((up & Outcode::face[f]) != 0u);
+    CHECK((Outcode::of(0.3, 0.1, -0.2, near) & Outcode::horizon) != 0u);
+}

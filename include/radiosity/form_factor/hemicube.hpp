@@ -20,6 +20,10 @@
 #include <span>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace radiosity {
 
 /// Settings of the hemicube method.
@@ -60,53 +64,88 @@ inline Vec4 face_clip(const HemicubeFace& face, const std::array<double, 3>& a, 
     return {x, face.side ? 2.0 * a[2] - w : a[1], A * w + B, w};
 }
 
-/// The extent of a polygon in a hemicube's frame, for frustum culling (Cohen & Sutherland's
-/// outcodes, taken over all vertices at once): the least and greatest value over its vertices
-/// of u, v, n and of the sums and differences whose signs say on which side of each frustum
-/// plane a vertex lies. The five frusta share their planes: n = +-u and n = +-v bound the top
-/// face and top the side faces, u = +-v separate the side faces, n = 0 is the horizon.
-struct FrameExtent {
-    enum : std::size_t { u, v, n, u_minus_n, u_plus_n, v_minus_n, v_plus_n, v_minus_u, v_plus_u };
-    std::array<double, 9> lo, hi;
+/// Frustum culling by outcodes (Cohen & Sutherland): bit k of a vertex's code says that the
+/// vertex lies beyond plane k; a polygon whose vertices all share a bit lies wholly beyond that
+/// plane and cannot cover a pixel of a face bounded by it. The five frusta share their planes:
+/// n = +-u and n = +-v bound the top face and top the side faces, u = +-v separate the side
+/// faces, n = 0 is the horizon, and each face has a near plane w = near. The codes test the
+/// clip coordinates of face_clip: the sign of a rounded sum or difference is that of the exact
+/// one.
+struct Outcode {
+    // In pairs for u and v, so that each SSE2 comparison of (u, v) fills two adjacent bits.
+    enum : std::uint32_t {
+        u_near = 1u << 0,       // u <= near
+        v_near = 1u << 1,       // v <= near
+        mu_near = 1u << 2,      // -u <= near
+        mv_near = 1u << 3,      // -v <= near
+        u_above_n = 1u << 4,    // u - n > 0
+        v_above_n = 1u << 5,    // v - n > 0
+        u_below_n = 1u << 6,    // u - n < 0
+        v_below_n = 1u << 7,    // v - n < 0
+        u_above_mn = 1u << 8,   // u + n > 0
+        v_above_mn = 1u << 9,   // v + n > 0
+        u_below_mn = 1u << 10,  // u + n < 0
+        v_below_mn = 1u << 11,  // v + n < 0
+        v_above_u = 1u << 12,   // v - u > 0
+        v_above_mu = 1u << 13,  // v + u > 0
+        v_below_u = 1u << 14,   // v - u < 0
+        v_below_mu = 1u << 15,  // v + u < 0
+        n_near = 1u << 16,      // n <= near: in front of the top face's near plane
+        horizon = 1u << 17,     // n <= 0: not above the patch's plane
+        under = 1u << 18,       // n < 0: below the side faces' bottom edge
+    };
 
-    /// The extent of one vertex (u, v, n).
-    explicit FrameExtent(const std::array<double, 3>& p) : lo(values(p)), hi(lo) {}
-    /// Widens the extent to hold vertex (u, v, n).
-    void add(const std::array<double, 3>& p) {
-        const std::array<double, 9> x = values(p);
-        for (std::size_t k = 0; k < 9; ++k) {
-            lo[k] = std::min(lo[k], x[k]);
-            hi[k] = std::max(hi[k], x[k]);
-        }
-    }
-    static std::array<double, 9> values(const std::array<double, 3>& p) {
-        const double a = p[0], b = p[1], c = p[2];
-        return {a, b, c, a - c, a + c, b - c, b + c, b - a, b + a};
+    /// The code of the vertex with frame coordinates (u, v, n), one comparison at a time: the
+    /// definition, and the path of builds without SSE2.
+    static std::uint32_t of_scalar(double u, double v, double n, double near) {
+        auto bit = [](bool beyond, std::uint32_t b) { return beyond ? b : 0u; };
+        return bit(u <= near, u_near) | bit(v <= near, v_near) | bit(-u <= near, mu_near) |
+               bit(-v <= near, mv_near) | bit(u - n > 0.0, u_above_n) |
+               bit(v - n > 0.0, v_above_n) | bit(u - n < 0.0, u_below_n) |
+               bit(v - n < 0.0, v_below_n) | bit(u + n > 0.0, u_above_mn) |
+               bit(v + n > 0.0, v_above_mn) | bit(u + n < 0.0, u_below_mn) |
+               bit(v + n < 0.0, v_below_mn) | bit(v - u > 0.0, v_above_u) |
+               bit(v + u > 0.0, v_above_mu) | bit(v - u < 0.0, v_below_u) |
+               bit(v + u < 0.0, v_below_mu) | bit(n <= near, n_near) | bit(n <= 0.0, horizon) |
+               bit(n < 0.0, under);
     }
 
-    /// Whether the polygon may show on face f of hemicube_faces: no plane of the face's
-    /// frustum (near w <= near, then x > w, x < -w, y > w, y < -w) has all vertices beyond it.
-    /// The sign of a rounded sum or difference is that of the exact one, so these tests are
-    /// those of the clip coordinates of face_clip.
-    bool may_show(std::size_t f, double near) const {
-        switch (f) {
-            case 0:  // top: x = u, y = v, w = n
-                return !(hi[n] <= near || lo[u_minus_n] > 0.0 || hi[u_plus_n] < 0.0 ||
-                         lo[v_minus_n] > 0.0 || hi[v_plus_n] < 0.0);
-            case 1:  // side along +u: x = v, w = u, top n = u, bottom n = 0
-                return !(hi[u] <= near || lo[v_minus_u] > 0.0 || hi[v_plus_u] < 0.0 ||
-                         hi[u_minus_n] < 0.0 || hi[n] < 0.0);
-            case 2:  // side along -u: x = -v, w = -u
-                return !(lo[u] >= -near || hi[v_minus_u] < 0.0 || lo[v_plus_u] > 0.0 ||
-                         lo[u_plus_n] > 0.0 || hi[n] < 0.0);
-            case 3:  // side along +v: x = -u, w = v
-                return !(hi[v] <= near || hi[v_plus_u] < 0.0 || hi[v_minus_u] < 0.0 ||
-                         hi[v_minus_n] < 0.0 || hi[n] < 0.0);
-            default:  // side along -v: x = u, w = -v
-                return !(lo[v] >= -near || lo[v_plus_u] > 0.0 || lo[v_minus_u] > 0.0 ||
-                         lo[v_plus_n] > 0.0 || hi[n] < 0.0);
-        }
+    /// The same code, two comparisons at a time with SSE2 (the same roundings: u - n is one
+    /// subtraction in either path, and -u <= near is u >= -near exactly).
+    static std::uint32_t of(double u, double v, double n, double near) {
+#if defined(__SSE2__)
+        return of(_mm_set_pd(v, u), n, near);
+#else
+        return of_scalar(u, v, n, near);
+#endif
     }
+
+#if defined(__SSE2__)
+    /// The same with u and v in the lanes of one register.
+    static std::uint32_t of(__m128d uv, double n, double near) {
+        const double u = _mm_cvtsd_f64(uv), v = _mm_cvtsd_f64(_mm_unpackhi_pd(uv, uv));
+        const __m128d nn = _mm_set1_pd(n), zero = _mm_setzero_pd();
+        const __m128d lim = _mm_set1_pd(near), minus_lim = _mm_set1_pd(-near);
+        const __m128d minus_n = _mm_sub_pd(uv, nn), plus_n = _mm_add_pd(uv, nn);
+        const __m128d vu = _mm_set_pd(v + u, v - u);
+        auto bits = [](__m128d mask, int shift) {
+            return static_cast<std::uint32_t>(_mm_movemask_pd(mask)) << shift;
+        };
+        return bits(_mm_cmple_pd(uv, lim), 0) | bits(_mm_cmpge_pd(uv, minus_lim), 2) |
+               bits(_mm_cmpgt_pd(minus_n, zero), 4) | bits(_mm_cmplt_pd(minus_n, zero), 6) |
+               bits(_mm_cmpgt_pd(plus_n, zero), 8) | bits(_mm_cmplt_pd(plus_n, zero), 10) |
+               bits(_mm_cmpgt_pd(vu, zero), 12) | bits(_mm_cmplt_pd(vu, zero), 14) |
+               bits(_mm_cmple_pd(nn, _mm_set_pd(0.0, near)), 16) | (n < 0.0 ? under : 0u);
+    }
+#endif
+
+    /// The planes of each face of hemicube_faces (near, then x > w, x < -w, y > w, y < -w).
+    static constexpr std::array<std::uint32_t, 5> face{
+        n_near | u_above_n | u_below_mn | v_above_n | v_below_mn,  // top: x = u, y = v, w = n
+        u_near | v_above_u | v_below_mu | u_below_n | under,       // +u: x = v, w = u
+        mu_near | v_below_u | v_above_mu | u_above_mn | under,     // -u: x = -v, w = -u
+        v_near | v_below_mu | v_below_u | v_below_n | under,       // +v: x = -u, w = v
+        mv_near | v_above_mu | v_above_u | v_above_mn | under};    // -v: x = u, w = -v
 };
 
 /// What the five faces of one hemicube draw: every patch vertex in the hemicube's frame (its
@@ -296,20 +335,35 @@ class Hemicube {
         for (auto& a : seen.axis) a.resize(m);  // entries are written before they are read
         for (auto& list : seen.patches) list.clear();
         const Vec3* p = m > 0 ? t.polygon(0).data() : nullptr;  // all polygons, one array
+#if defined(__SSE2__)
+        const __m128d ux = _mm_set_pd(v.x, u.x), uy = _mm_set_pd(v.y, u.y),
+                      uz = _mm_set_pd(v.z, u.z);
+#endif
         for (std::size_t j = 0; j < t.size(); ++j) {
             if (glm::dot(t.centroid(j) - c, n) + radius_[j] <= 0.0 || j == i) continue;
             auto to_frame = [&](std::uint32_t k) {  // vertex k in the frame, kept for draw()
                 const Vec3 d = p[k] - c;
-                seen.axis[0][k] = glm::dot(d, u);
-                seen.axis[1][k] = glm::dot(d, v);
-                seen.axis[2][k] = glm::dot(d, n);
-                return std::array<double, 3>{seen.axis[0][k], seen.axis[1][k], seen.axis[2][k]};
+                const double h = glm::dot(d, n);
+                seen.axis[2][k] = h;
+#if defined(__SSE2__)
+                const __m128d ab = _mm_add_pd(
+                    _mm_add_pd(_mm_mul_pd(_mm_set1_pd(d.x), ux), _mm_mul_pd(_mm_set1_pd(d.y), uy)),
+                    _mm_mul_pd(_mm_set1_pd(d.z), uz));
+                _mm_storel_pd(&seen.axis[0][k], ab);
+                _mm_storeh_pd(&seen.axis[1][k], ab);
+                return detail::Outcode::of(ab, h, near_);
+#else
+                const double a = glm::dot(d, u), b = glm::dot(d, v);
+                seen.axis[0][k] = a;
+                seen.axis[1][k] = b;
+                return detail::Outcode::of(a, b, h, near_);
+#endif
             };
-            detail::FrameExtent extent(to_frame(first_[j]));
-            for (std::uint32_t k = first_[j] + 1; k < first_[j + 1]; ++k) extent.add(to_frame(k));
-            if (!(extent.hi[detail::FrameExtent::n] > 0.0)) continue;  // below the horizon
+            std::uint32_t shared = ~0u;  // the planes all its vertices lie beyond
+            for (std::uint32_t k = first_[j]; k < first_[j + 1]; ++k) shared &= to_frame(k);
+            if (shared & detail::Outcode::horizon) continue;  // below the horizon
             for (std::size_t f = 0; f < 5; ++f)
-                if (extent.may_show(f, near_))
+                if (!(shared & detail::Outcode::face[f]))
                     seen.patches[f].push_back(static_cast<std::uint32_t>(j));
         }
     }
