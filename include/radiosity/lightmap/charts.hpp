@@ -76,18 +76,10 @@ struct FaceGeometry {
 template <class M>
 FaceGeometry face_geometry(const M& mesh) {
     FaceGeometry g;
-    const std::size_t nv = mesh.n_vertices();
-    std::vector<Vec3> p(nv);
-    Vec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
-    for (auto v : mesh.vertices()) {
-        const auto& q = mesh.point(v);
-        const Vec3 x(q[0], q[1], q[2]);
-        p[static_cast<std::size_t>(v.idx())] = x;
-        lo = glm::min(lo, x);
-        hi = glm::max(hi, x);
-    }
-    g.diagonal = nv > 0 ? glm::length(hi - lo) : 0.0;
-    const std::vector<std::size_t> group = weld_points(p, 1e-9 * g.diagonal);
+    const MeshWeld w = weld_mesh(mesh);
+    const std::vector<Vec3>& p = w.point;
+    const std::vector<std::size_t>& group = w.group;
+    g.diagonal = w.diagonal;
 
     g.first.push_back(0);
     for (auto f : mesh.faces()) {

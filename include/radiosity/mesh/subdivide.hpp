@@ -40,24 +40,20 @@ struct Welded {
     std::vector<std::vector<glm::vec2>> uv;        // lightmap UV per corner, if the mesh has them
 };
 
-/// Merges vertices closer than eps (weld.hpp). O(n) expected.
+/// Merges coincident vertices (weld.hpp) and lists the faces over the merged ones. O(n)
+/// expected.
 template <class M>
-Welded weld(const M& mesh, double eps) {
-    const std::size_t nv = mesh.n_vertices();
-    std::vector<Vec3> p(nv);
-    for (auto v : mesh.vertices()) {
-        const auto& q = mesh.point(v);
-        p[static_cast<std::size_t>(v.idx())] = Vec3(q[0], q[1], q[2]);
-    }
-    const std::vector<std::size_t> group = weld_points(p, eps);
+Welded weld(const M& mesh) {
+    const MeshWeld welded = weld_mesh(mesh);
+    const std::size_t nv = welded.point.size();
     Welded w;
     std::vector<std::uint32_t> id(nv, UINT32_MAX);
     std::vector<std::uint32_t> merged(nv);
     for (std::size_t v = 0; v < nv; ++v) {
-        const std::size_t r = group[v];
+        const std::size_t r = welded.group[v];
         if (id[r] == UINT32_MAX) {
             id[r] = static_cast<std::uint32_t>(w.point.size());
-            w.point.push_back(p[r]);
+            w.point.push_back(welded.point[r]);
         }
         merged[v] = id[r];
     }
@@ -352,14 +348,7 @@ struct SubdivisionPlan {
 
 template <SpectrumType S>
 SubdivisionPlan plan_subdivision(const Mesh<S>& mesh, const SubdivisionOptions& options) {
-    Vec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
-    for (auto v : mesh.vertices()) {
-        const auto& p = mesh.point(v);
-        lo = glm::min(lo, Vec3(p[0], p[1], p[2]));
-        hi = glm::max(hi, Vec3(p[0], p[1], p[2]));
-    }
-    const double eps = mesh.n_vertices() > 0 ? 1e-9 * glm::length(hi - lo) : 0.0;
-    SubdivisionPlan plan{weld(mesh, eps), {}, 0.0};
+    SubdivisionPlan plan{weld(mesh), {}, 0.0};
     plan.splits = split_edges(plan.welded, options);
     for (std::size_t f = 0; f < plan.welded.face.size(); ++f) {
         const auto& ids = plan.splits.face_edges[f];

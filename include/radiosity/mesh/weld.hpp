@@ -96,4 +96,31 @@ inline std::vector<std::size_t> weld_points(std::span<const Vec3> p, double eps)
     return group;
 }
 
+/// A mesh's vertices welded: their points (by vertex index), the diagonal of their bounding box,
+/// and for each vertex its group's smallest index, merging vertices within 1e-9 of the diagonal
+/// (weld_points). What the subdivision and the lightmap charts both start from.
+struct MeshWeld {
+    std::vector<Vec3> point;
+    std::vector<std::size_t> group;
+    double diagonal = 0.0;
+};
+
+/// Welds the vertices of an OpenMesh mesh (see MeshWeld). O(n) expected.
+template <class M>
+MeshWeld weld_mesh(const M& mesh) {
+    MeshWeld w;
+    w.point.resize(mesh.n_vertices());
+    Vec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (auto v : mesh.vertices()) {
+        const auto& q = mesh.point(v);
+        const Vec3 x(q[0], q[1], q[2]);
+        w.point[static_cast<std::size_t>(v.idx())] = x;
+        lo = glm::min(lo, x);
+        hi = glm::max(hi, x);
+    }
+    w.diagonal = w.point.empty() ? 0.0 : glm::length(hi - lo);
+    w.group = weld_points(w.point, 1e-9 * w.diagonal);
+    return w;
+}
+
 }  // namespace radiosity
