@@ -420,7 +420,7 @@ TEST_CASE("unwrap: a sphere is cut into charts that neither overlap nor fold") {
     CHECK(stretched == 0);
     // A narrower cone gives more charts.
     auto narrow = build_mesh(icosphere(3));
-    const UnwrapOptions tight{.size = 1024, .max_chart_angle_degrees = 20.0};
+    const UnwrapOptions tight{.size = 1024, .charts = {.max_chart_angle_degrees = 20.0}};
     const Atlas more = make_lightmap_uvs(narrow, tight);
     CHECK(more.charts > atlas.charts);
     check_atlas(narrow, more, tight);
@@ -507,11 +507,13 @@ TEST_CASE("unwrap: bad options, an empty mesh and too many charts throw") {
          {UnwrapOptions{.size = 4}, UnwrapOptions{.size = 16385}, UnwrapOptions{.size = -1},
           UnwrapOptions{.texel_density = -1.0}, UnwrapOptions{.texel_density = nan},
           UnwrapOptions{.texel_density = inf}, UnwrapOptions{.gutter = -1},
-          UnwrapOptions{.gutter = 65}, UnwrapOptions{.max_chart_angle_degrees = 0.0},
-          UnwrapOptions{.max_chart_angle_degrees = 90.0},
-          UnwrapOptions{.max_chart_angle_degrees = -5.0},
-          UnwrapOptions{.max_chart_angle_degrees = nan}, UnwrapOptions{.crease_angle_degrees = 0.0},
-          UnwrapOptions{.crease_angle_degrees = 181.0}, UnwrapOptions{.crease_angle_degrees = nan}})
+          UnwrapOptions{.gutter = 65}, UnwrapOptions{.charts = {.max_chart_angle_degrees = 0.0}},
+          UnwrapOptions{.charts = {.max_chart_angle_degrees = 90.0}},
+          UnwrapOptions{.charts = {.max_chart_angle_degrees = -5.0}},
+          UnwrapOptions{.charts = {.max_chart_angle_degrees = nan}},
+          UnwrapOptions{.charts = {.crease_angle_degrees = 0.0}},
+          UnwrapOptions{.charts = {.crease_angle_degrees = 181.0}},
+          UnwrapOptions{.charts = {.crease_angle_degrees = nan}}})
         CHECK_THROWS_AS(make_lightmap_uvs(mesh, bad), Error);
     Mesh<float> empty;
     CHECK_THROWS_AS(make_lightmap_uvs(empty), Error);
@@ -536,8 +538,8 @@ TEST_CASE("unwrap: charts end at creases and at changes of material") {
     CHECK(charts(strip(0.0, 1)) == 2);
     CHECK(charts(strip(40.0, 0)) == 2);
     UnwrapOptions wide;
-    wide.crease_angle_degrees = 60.0;
-    wide.split_materials = false;
+    wide.charts.crease_angle_degrees = 60.0;
+    wide.charts.split_materials = false;
     CHECK(charts(strip(40.0, 0), wide) == 1);
     CHECK(charts(strip(0.0, 1), wide) == 1);
 }

@@ -24,10 +24,7 @@ struct UnwrapOptions {
     double texel_density = 0.0;  ///< texels per scene unit; > 0: the atlas size follows from it
     int gutter =
         2;  ///< empty texels kept on every side of each chart (charts are >= 2*gutter apart)
-    double max_chart_angle_degrees = 45.0;  ///< faces whose normals differ more from the chart's
-                                            ///< seed start a new chart
-    double crease_angle_degrees = 30.0;  ///< charts end at sharper edges (as smooth shading does)
-    bool split_materials = true;         ///< charts end where the material changes
+    ChartOptions charts{};  ///< how faces join charts (angles, creases, materials)
 };
 
 /// What make_lightmap_uvs made.
@@ -110,19 +107,10 @@ Atlas make_lightmap_uvs(M& mesh, const UnwrapOptions& options = {}) {
     if (options.gutter < 0 || options.gutter > 64)
         throw Error("lightmap UVs: gutter must lie in [0, 64] texels, not " +
                     std::to_string(options.gutter));
-    const double angle = options.max_chart_angle_degrees;
-    if (!(angle > 0.0 && angle < 90.0))
-        throw Error("lightmap UVs: max chart angle must lie in (0, 90) degrees, not " +
-                    std::to_string(angle));
-    if (!(options.crease_angle_degrees > 0.0 && options.crease_angle_degrees <= 180.0))
-        throw Error("lightmap UVs: crease angle must lie in (0, 180] degrees, not " +
-                    std::to_string(options.crease_angle_degrees));
+    detail::check_chart_options(options.charts);
     if (mesh.n_faces() == 0) throw Error("lightmap UVs: the mesh has no faces");
 
-    const std::vector<Chart> charts =
-        make_charts(mesh, {.max_chart_angle_degrees = angle,
-                           .crease_angle_degrees = options.crease_angle_degrees,
-                           .split_materials = options.split_materials});
+    const std::vector<Chart> charts = make_charts(mesh, options.charts);
     const int gutter = options.gutter;
     // Tallest first, ties by index: the shelf order is the same at every density.
     std::vector<std::uint32_t> order(charts.size());

@@ -70,6 +70,17 @@ struct FaceGeometry {
     std::size_t faces() const { return area.size(); }
 };
 
+/// Throws Error for a chart angle outside (0, 90) or a crease angle outside (0, 180] degrees.
+inline void check_chart_options(const ChartOptions& options) {
+    const double angle = options.max_chart_angle_degrees, crease = options.crease_angle_degrees;
+    if (!(angle > 0.0 && angle < 90.0))
+        throw Error("charts: max chart angle must lie in (0, 90) degrees, not " +
+                    std::to_string(angle));
+    if (!(crease > 0.0 && crease <= 180.0))
+        throw Error("charts: crease angle must lie in (0, 180] degrees, not " +
+                    std::to_string(crease));
+}
+
 /// Gathers the faces' corners and merges coincident vertices (within 1e-9 of the scene's size)
 /// into one id, so that faces that do not share vertex handles (separate quads of one wall,
 /// polygon soups from files) are still adjacent across their common edges (weld.hpp).
@@ -356,13 +367,12 @@ inline Vec2 min_area_rectangle_axis(std::span<const Vec2> hull) {
 /// left for a later chart. The chart is then projected onto the plane of its area-weighted
 /// mean normal (or kept in the seed's plane where that projection would fold or overlap) and
 /// turned to its minimum-area bounding rectangle, long side along u. Deterministic. Throws
-/// Error for an angle outside (0, 90). Cost: about O(n log n) for n corners.
+/// Error for angles outside their ranges (check_chart_options). Cost: about O(n log n) for n
+/// corners.
 template <class M>
 std::vector<Chart> make_charts(const M& mesh, const ChartOptions& options = {}) {
+    detail::check_chart_options(options);
     const double angle = options.max_chart_angle_degrees;
-    if (!(angle > 0.0 && angle < 90.0))
-        throw Error("charts: max chart angle must lie in (0, 90) degrees, not " +
-                    std::to_string(angle));
     const detail::FaceGeometry g = detail::face_geometry(mesh);
     const detail::Adjacency adj = detail::face_adjacency(g);
     const std::size_t nf = g.faces();

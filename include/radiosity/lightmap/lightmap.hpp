@@ -68,7 +68,7 @@ Atlas lightmap_atlas(Mesh<S>& mesh, const LightmapOptions& o, bool& generated) {
     generated = !has_corner_uvs(mesh);
     if (generated) {  // charts end where the shading breaks, so no jump is blurred in a chart
         UnwrapOptions unwrap = o.unwrap;
-        unwrap.crease_angle_degrees = o.shading.crease_angle_degrees;
+        unwrap.charts.crease_angle_degrees = o.shading.crease_angle_degrees;
         return make_lightmap_uvs(mesh, unwrap);
     }
     Atlas atlas;
