@@ -7,6 +7,7 @@
 /// `.glb` writes one binary file; any other name writes NAME.gltf (JSON) beside NAME.bin.
 
 #include <radiosity/error.hpp>
+#include <radiosity/io/gltf_constants.hpp>
 #include <radiosity/io/image.hpp>
 #include <radiosity/shading/shaded_mesh.hpp>
 
@@ -58,10 +59,11 @@ class GltfBuilder {
     template <class T>
     std::size_t accessor(const std::vector<T>& data, std::size_t count, const char* type,
                          int target, nlohmann::json extra = nlohmann::json::object()) {
-        nlohmann::json a = {{"bufferView", view(data, target)},
-                            {"componentType", std::is_same_v<T, float> ? 5126 : 5125},
-                            {"count", count},
-                            {"type", type}};
+        nlohmann::json a = {
+            {"bufferView", view(data, target)},
+            {"componentType", std::is_same_v<T, float> ? gltf::float32 : gltf::unsigned_int},
+            {"count", count},
+            {"type", type}};
         a.update(extra);
         accessors_.push_back(a);
         return accessors_.size() - 1;
@@ -100,8 +102,8 @@ inline nlohmann::json gltf_document(const ShadedMesh& mesh, double exposure_scal
     using nlohmann::json;
     const auto count = mesh.positions.size();
     GltfBuilder b(bin);
-    json attributes = {
-        {"POSITION", b.accessor(position, count, "VEC3", 34962, {{"min", lo}, {"max", hi}})}};
+    json attributes = {{"POSITION", b.accessor(position, count, "VEC3", gltf::array_buffer,
+                                               {{"min", lo}, {"max", hi}})}};
     json material = {{"pbrMetallicRoughness",
                       {{"baseColorFactor", {1.0, 1.0, 1.0, 1.0}},
                        {"metallicFactor", 0.0},
@@ -114,7 +116,8 @@ inline nlohmann::json gltf_document(const ShadedMesh& mesh, double exposure_scal
                 {"nodes", {{{"mesh", 0}}}}};
     if (lightmap_png) {
         if (mesh.uvs.size() != count) throw Error("glTF: the mesh has no lightmap UVs");
-        attributes["TEXCOORD_0"] = attributes["TEXCOORD_1"] = b.accessor(uv, count, "VEC2", 34962);
+        attributes["TEXCOORD_0"] = attributes["TEXCOORD_1"] =
+            b.accessor(uv, count, "VEC2", gltf::array_buffer);
         material["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}, {"texCoord", 0}};
         doc["textures"] = {{{"sampler", 0}, {"source", 0}}};
         doc["samplers"] = {{{"magFilter", 9729},
@@ -123,9 +126,10 @@ inline nlohmann::json gltf_document(const ShadedMesh& mesh, double exposure_scal
                             {"wrapT", 33071}}};
         doc["images"] = {{{"bufferView", b.view(*lightmap_png, 0)}, {"mimeType", "image/png"}}};
     } else {
-        attributes["COLOR_0"] = b.accessor(colour, count, "VEC3", 34962);
+        attributes["COLOR_0"] = b.accessor(colour, count, "VEC3", gltf::array_buffer);
     }
-    const std::size_t indices = b.accessor(index, index.size(), "SCALAR", 34963);
+    const std::size_t indices =
+        b.accessor(index, index.size(), "SCALAR", gltf::element_array_buffer);
     doc["materials"] = {material};
     doc["meshes"] = {
         {{"primitives", {{{"attributes", attributes}, {"indices", indices}, {"material", 0}}}}}};
@@ -151,9 +155,11 @@ inline void write_gltf_files(nlohmann::json doc, const std::vector<std::uint8_t>
         while (json.size() % 4 != 0) json.push_back(' ');
         const std::uint32_t total = 12 + 8 + static_cast<std::uint32_t>(json.size()) + 8 +
                                     static_cast<std::uint32_t>(bin.size());
-        const std::uint32_t header[3] = {0x46546C67u, 2u, total};
-        const std::uint32_t json_chunk[2] = {static_cast<std::uint32_t>(json.size()), 0x4E4F534Au};
-        const std::uint32_t bin_chunk[2] = {static_cast<std::uint32_t>(bin.size()), 0x004E4942u};
+        const std::uint32_t header[3] = {gltf::glb_magic, 2u, total};
+        const std::uint32_t json_chunk[2] = {static_cast<std::uint32_t>(json.size()),
+                                             gltf::glb_json_chunk};
+        const std::uint32_t bin_chunk[2] = {static_cast<std::uint32_t>(bin.size()),
+                                            gltf::glb_bin_chunk};
         detail::write_bytes(out, header, sizeof header);
         detail::write_bytes(out, json_chunk, sizeof json_chunk);
         detail::write_bytes(out, json.data(), json.size());

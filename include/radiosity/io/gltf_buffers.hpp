@@ -7,6 +7,7 @@
 /// io/gltf_read.hpp.
 
 #include <radiosity/error.hpp>
+#include <radiosity/io/gltf_constants.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -257,14 +258,14 @@ struct AccessorData {
 /// Bytes of one component of a glTF componentType, 0 for an unknown one.
 inline std::size_t component_size(std::uint64_t type) {
     switch (type) {
-        case 5120:
-        case 5121:
+        case gltf::signed_byte:
+        case gltf::unsigned_byte:
             return 1;
-        case 5122:
-        case 5123:
+        case gltf::signed_short:
+        case gltf::unsigned_short:
             return 2;
-        case 5125:
-        case 5126:
+        case gltf::unsigned_int:
+        case gltf::float32:
             return 4;
         default:
             return 0;
@@ -359,16 +360,16 @@ inline double accessor_value(const AccessorData& d, std::size_t e, std::size_t k
         return v;
     };
     switch (d.component_type) {
-        case 5120:
+        case gltf::signed_byte:
             return d.normalized ? std::max(load(std::int8_t{}) / 127.0, -1.0) : load(std::int8_t{});
-        case 5121:
+        case gltf::unsigned_byte:
             return d.normalized ? load(std::uint8_t{}) / 255.0 : load(std::uint8_t{});
-        case 5122:
+        case gltf::signed_short:
             return d.normalized ? std::max(load(std::int16_t{}) / 32767.0, -1.0)
                                 : load(std::int16_t{});
-        case 5123:
+        case gltf::unsigned_short:
             return d.normalized ? load(std::uint16_t{}) / 65535.0 : load(std::uint16_t{});
-        case 5125:
+        case gltf::unsigned_int:
             return load(std::uint32_t{});
         default:
             return load(float{});
@@ -410,10 +411,11 @@ inline void split_glb(GltfSource& g, const Bytes& file) {
         if (length > file.size() - at)
             fail(name + ": length " + std::to_string(length) + " runs past the end of the file");
         const auto* data = file.data() + at;
-        if (chunk == 0 && type != 0x4E4F534Au) fail(name + ": the first chunk is not JSON");
+        if (chunk == 0 && type != gltf::glb_json_chunk)
+            fail(name + ": the first chunk is not JSON");
         if (chunk == 0)
             g.doc = parse_gltf_json(g.path, {reinterpret_cast<const char*>(data), length});
-        else if (type == 0x004E4942u && !g.glb_bin)
+        else if (type == gltf::glb_bin_chunk && !g.glb_bin)
             g.glb_bin = Bytes(data, data + length);
         at += length;  // chunks of other types are to be ignored (section 4.4.3.1)
     }
@@ -429,7 +431,7 @@ inline GltfSource open_gltf(const std::string& path) {
     GltfSource g;
     g.path = path;
     g.folder = std::filesystem::path(path).parent_path();
-    if (file.size() >= 4 && le32(file, 0) == 0x46546C67u)  // "glTF"
+    if (file.size() >= 4 && le32(file, 0) == gltf::glb_magic)  // "glTF"
         split_glb(g, file);
     else
         g.doc = parse_gltf_json(path, {reinterpret_cast<const char*>(file.data()), file.size()});

@@ -216,7 +216,8 @@ class GltfSceneReader {
             for (std::size_t k = 0; k < n; ++k) out[k] = static_cast<std::uint32_t>(k);
             return out;
         }
-        const AccessorData d = gltf_accessor(g_, *i, "SCALAR", {5121, 5123, 5125});
+        const AccessorData d = gltf_accessor(
+            g_, *i, "SCALAR", {gltf::unsigned_byte, gltf::unsigned_short, gltf::unsigned_int});
         out.reserve(d.count);
         for (std::size_t k = 0; k < d.count; ++k) {
             const double v = accessor_value(d, k, 0);
@@ -234,12 +235,12 @@ class GltfSceneReader {
     std::vector<std::array<std::uint32_t, 3>> triangles(const std::vector<std::uint32_t>& v,
                                                         std::uint64_t mode, const std::string& at) {
         std::vector<std::array<std::uint32_t, 3>> t;
-        if (mode == 4) {
+        if (mode == gltf::triangles) {
             if (v.size() % 3 != 0)
                 gltf_fail(g_, at, std::to_string(v.size()) + " indices are not whole triangles");
             for (std::size_t k = 0; k + 2 < v.size(); k += 3)
                 t.push_back({v[k], v[k + 1], v[k + 2]});
-        } else if (mode == 5) {
+        } else if (mode == gltf::triangle_strip) {
             for (std::size_t k = 0; k + 2 < v.size(); ++k)
                 t.push_back({v[k], v[k + 1 + k % 2], v[k + 2 - k % 2]});
         } else {
@@ -251,7 +252,7 @@ class GltfSceneReader {
     /// POSITION as points, each finite.
     std::vector<Vec3> positions(const Json& attributes, const std::string& at) {
         const AccessorData d = gltf_accessor(
-            g_, get_uint(g_, attributes, at + ".attributes", "POSITION"), "VEC3", {5126});
+            g_, get_uint(g_, attributes, at + ".attributes", "POSITION"), "VEC3", {gltf::float32});
         std::vector<Vec3> p(d.count);
         for (std::size_t e = 0; e < d.count; ++e) {
             p[e] = {accessor_value(d, e, 0), accessor_value(d, e, 1), accessor_value(d, e, 2)};
@@ -267,8 +268,9 @@ class GltfSceneReader {
         std::vector<glm::vec2> uv;
         const auto i = optional_index(g_, attributes, at + ".attributes", key);
         if (!i) return uv;
-        const AccessorData d = gltf_accessor(g_, *i, "VEC2", {5121, 5123, 5126});
-        if (d.component_type != 5126 && !d.normalized)
+        const AccessorData d = gltf_accessor(
+            g_, *i, "VEC2", {gltf::unsigned_byte, gltf::unsigned_short, gltf::float32});
+        if (d.component_type != gltf::float32 && !d.normalized)
             gltf_fail(g_, d.name, "integer texture coordinates must be normalized");
         if (d.count != n)
             gltf_fail(g_, d.name,
@@ -286,9 +288,9 @@ class GltfSceneReader {
     /// so the corners are swapped to keep the front side in front (section 3.7.4).
     void add_primitive(const Json& prim, const std::string& at, const glm::dmat4& world) {
         if (!prim.is_object()) gltf_fail(g_, at, "is not an object");
-        const std::uint64_t mode = get_uint(g_, prim, at, "mode", 4);
+        const std::uint64_t mode = get_uint(g_, prim, at, "mode", gltf::triangles);
         if (mode > 6) gltf_fail(g_, at, "mode " + std::to_string(mode) + " is not 0..6");
-        if (mode < 4) {  // points and lines have no area to exchange light
+        if (mode < gltf::triangles) {  // points and lines have no area to exchange light
             ++out_.skipped_primitives;
             return;
         }
