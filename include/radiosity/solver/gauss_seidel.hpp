@@ -12,8 +12,7 @@
 
 #include <algorithm>
 #include <array>
-#include <barrier>
-#include <cstdint>
+#include <atomic>
 #include <optional>
 #include <utility>
 
@@ -50,7 +49,7 @@ class GaussSeidel {
         Report report{"gauss-seidel"};
         if constexpr (DenseRowMatrix<Mx>) {
             detail::BandMajor<K> b(B);
-            std::vector<double> outside(2 * block_rows * K);
+            std::vector<double> outside(B.size());
             detail::sweep_until(
                 report, [&] { return sweep_dense<K>(F, E, R, b, outside); },
                 detail::emission_scale(E), options_.tolerance, options_.max_iterations, progress);
@@ -105,64 +104,78 @@ class GaussSeidel {
     /// block's rows are gathered first, rows shared among the threads; then every thread sweeps
     /// the block's square on the diagonal in patch order, each on its own copy of B, with the
     /// same operations and so the same values. That costs every thread the diagonal (block_rows
-    /// / n of the sweep) but leaves one barrier a block: a thread needs no other's writes to B.
-    /// The gathered sums alternate between two buffers, as a thread may start the next block's
-    /// gather while another still reads this one's. The barrier sleeps after a short spin
-    /// (std::barrier): OpenMP's spinning barriers, on a machine with other work, took CPU from
-    /// the very thread they waited for (10k patches, with another program running: 2 s a solve
-    /// against 0.7 s on one thread).
+    /// / n of the sweep) but spares all barriers: a thread needs no other's writes to B, and waits
+    /// only for the rows of a block that others have taken and not yet gathered. So a thread
+    /// that the machine holds back (another program running) holds back no other unless it has
+    /// rows in hand, a few thousandths of a second of work; it catches up by sweeping the
+    /// diagonal blocks it missed. (Barriers, OpenMP's spinning ones even once a block, made a
+    /// 10k-patch solve on two busy cores 2 s against 0.7 s on one thread.)
     template <std::size_t K, class Mx>
     static double sweep_dense(const Mx& F, const std::vector<double>& E,
                               const std::vector<double>& R, detail::BandMajor<K>& B,
                               std::vector<double>& outside) {
         const std::size_t n = F.size();
+        std::vector<BlockProgress> blocks((n + block_rows - 1) / block_rows);
         double change = 0.0;
-        std::optional<std::barrier<>> gathered;
+        std::optional<detail::BandMajor<K>> result;
 #if defined(RADIOSITY_WITH_OPENMP)
 #pragma omp parallel if (n >= detail::parallel_rows)
 #endif
         {
-            const auto [thread, threads] = detail::thread_in_team();
-#if defined(RADIOSITY_WITH_OPENMP)
-#pragma omp single
-#endif
-            gathered.emplace(static_cast<std::ptrdiff_t>(threads));
             detail::BandMajor<K> mine = B;  // read and written by this thread only
             double my_change = 0.0;
             for (std::size_t r0 = 0; r0 < n; r0 += block_rows) {
                 const std::size_t r1 = std::min(n, r0 + block_rows);
-                double* sums = outside.data() + (r0 / block_rows % 2) * block_rows * K;
-                gather_outside<K>(F, mine, r0, r1, sums);
-                gathered->arrive_and_wait();
-                my_change = std::max(my_change, sweep_block<K>(F, E, R, mine, r0, r1, sums));
+                BlockProgress& block = blocks[r0 / block_rows];
+                gather_outside<K>(F, mine, r0, r1, block, outside);
+                block.wait_until(r1 - r0);
+                my_change = std::max(my_change, sweep_block<K>(F, E, R, mine, r0, r1, outside));
             }
-            // After the last barrier: every thread has long finished copying B.
-            if (thread == 0) {
-                B = std::move(mine);
+            if (detail::thread_in_team().thread == 0) {  // every thread holds the same B
+                result.emplace(std::move(mine));
                 change = my_change;
             }
         }
+        B = std::move(*result);
         return change;
     }
 
-    /// sums[(i - r0) K + k] = sum_{j < r0 or j >= r1} F_ij B_j[k] for the rows i of the block,
-    /// each row by one thread (an orphaned worksharing loop, run by sweep_dense's team, without
-    /// the loop's own barrier). Dynamic, so that a thread slowed by other work takes fewer rows.
+    /// Rows of a block handed out and rows gathered, for sweep_dense.
+    struct BlockProgress {
+        std::atomic<std::size_t> taken{0}, gathered{0};
+
+        /// Counts rows as gathered; wakes the waiting threads when the block is complete.
+        void add_gathered(std::size_t rows, std::size_t block_size) {
+            if (gathered.fetch_add(rows, std::memory_order_release) + rows == block_size)
+                gathered.notify_all();
+        }
+        /// Returns once all block_size rows are gathered (a short spin, then sleep: C++20's
+        /// atomic wait), their sums then visible to this thread.
+        void wait_until(std::size_t block_size) {
+            for (std::size_t g = gathered.load(std::memory_order_acquire); g != block_size;
+                 g = gathered.load(std::memory_order_acquire))
+                gathered.wait(g, std::memory_order_acquire);
+        }
+    };
+
+    /// outside[i K + k] = sum_{j < r0 or j >= r1} F_ij B_j[k] for the rows i of the block that
+    /// this thread takes, 8 at a time, until none are left.
     template <std::size_t K, class Mx>
     static void gather_outside(const Mx& F, const detail::BandMajor<K>& B, std::size_t r0,
-                               std::size_t r1, double* sums) {
-        const std::size_t n = F.size();
-        const auto first = static_cast<std::int64_t>(r0), last = static_cast<std::int64_t>(r1);
-#if defined(RADIOSITY_WITH_OPENMP)
-#pragma omp for schedule(dynamic, 8) nowait
-#endif
-        for (std::int64_t s = first; s < last; ++s) {
-            const auto i = static_cast<std::size_t>(s);
-            const float* row = F.row(i).data();
-            std::array<double, K> before, after;
-            detail::dense_dot<K>(row, B.data(), B.stride(), 0, r0, before.data());
-            detail::dense_dot<K>(row, B.data(), B.stride(), r1, n, after.data());
-            for (std::size_t k = 0; k < K; ++k) sums[(i - r0) * K + k] = before[k] + after[k];
+                               std::size_t r1, BlockProgress& block, std::vector<double>& outside) {
+        constexpr std::size_t take = 8;
+        const std::size_t n = F.size(), size = r1 - r0;
+        for (std::size_t a = block.taken.fetch_add(take); a < size;
+             a = block.taken.fetch_add(take)) {
+            const std::size_t end = std::min(size, a + take);
+            for (std::size_t i = r0 + a; i < r0 + end; ++i) {
+                const float* row = F.row(i).data();
+                std::array<double, K> before, after;
+                detail::dense_dot<K>(row, B.data(), B.stride(), 0, r0, before.data());
+                detail::dense_dot<K>(row, B.data(), B.stride(), r1, n, after.data());
+                for (std::size_t k = 0; k < K; ++k) outside[i * K + k] = before[k] + after[k];
+            }
+            block.add_gathered(end - a, size);
         }
     }
 
@@ -173,7 +186,7 @@ class GaussSeidel {
     template <std::size_t K, class Mx>
     static double sweep_block(const Mx& F, const std::vector<double>& E,
                               const std::vector<double>& R, detail::BandMajor<K>& B, std::size_t r0,
-                              std::size_t r1, const double* outside) {
+                              std::size_t r1, const std::vector<double>& outside) {
         double change = 0.0;
         for (std::size_t i = r0; i < r1; ++i) {
             const float* row = F.row(i).data();
@@ -183,7 +196,7 @@ class GaussSeidel {
             const double self = row[i];  // F_ii
             for (std::size_t k = 0; k < K; ++k) {
                 const std::size_t ik = i * K + k;
-                const double acc = outside[(i - r0) * K + k] + inside[k];
+                const double acc = outside[ik] + inside[k];
                 const double b = (E[ik] + R[ik] * acc) / (1.0 - R[ik] * self);
                 change = std::max(change, std::abs(b - old[k]));
                 B.at(k, i) = b;
