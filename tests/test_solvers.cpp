@@ -274,10 +274,11 @@ TEST_CASE("the dense gather is accurate to double rounding") {
 }
 
 TEST_CASE("over dense rows the sweeps give the generic path's B") {
-    // 1500 patches: above detail::parallel_rows, and neither a multiple of the blocks (256) nor
-    // of the 8 rows gathered together. A fixed number of sweeps, so both do the same work; they
-    // add in different orders, so B agrees to double rounding, well inside one float.
-    const RandomSystem s = random_system(1500, 1);
+    // 2500 patches: enough to share the passes among threads (detail::worth_threads), and
+    // neither a multiple of the blocks (256) nor of the 8 rows taken at a time. A fixed number of
+    // sweeps, so both do the same work; they add in different orders, so B agrees to double
+    // rounding, well inside one float.
+    const RandomSystem s = random_system(2500, 1);
     const SparseMatrix generic = all_entries(s.F);
     const System<Rgb> system{s.E, s.R, s.area};
     const auto check_same = [](const Solution<Rgb>& dense, const Solution<Rgb>& sparse) {
@@ -297,7 +298,8 @@ TEST_CASE("over dense rows the sweeps give the generic path's B") {
 
 TEST_CASE("the sweeps give bit-identical B for 1, 2 and 3 threads") {
 #if defined(RADIOSITY_WITH_OPENMP)
-    const RandomSystem s = random_system(1500, 2);
+    const RandomSystem s = random_system(2500, 2);
+    REQUIRE(detail::worth_threads(2500, 3));
     const System<Rgb> system{s.E, s.R, s.area};
     const int before = omp_get_max_threads();
     std::vector<Solution<Rgb>> gs, jacobi;

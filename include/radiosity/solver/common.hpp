@@ -24,6 +24,9 @@
 #if defined(RADIOSITY_WITH_OPENMP)
 #include <omp.h>
 #endif
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace radiosity {
 
@@ -84,10 +87,21 @@ inline double emission_scale(const std::vector<double>& E) {
     return m > 0.0 ? m : 1.0;
 }
 
-/// Systems from this many patches on gather in parallel: below, a pass over F takes
-/// microseconds and starting threads would cost more than it saves. Results do not depend on
-/// it, since the work is cut the same way either way.
-inline constexpr std::size_t parallel_rows = 1024;
+/// Whether a pass over an n x n system of K bands is worth sharing among threads: from 2^24
+/// products on (a few milliseconds), below which starting and waking threads, on a machine
+/// with other work, can cost more than the pass. Results do not depend on it: the work is cut
+/// the same way either way.
+inline bool worth_threads(std::size_t n, std::size_t K) {
+    return static_cast<double>(n) * static_cast<double>(n) * static_cast<double>(K) >= 0x1p24;
+}
+
+/// A short pause in a spin-wait loop (x86's pause, which frees the core's resources for a
+/// sibling hyper-thread; nothing elsewhere).
+inline void spin_pause() {
+#if defined(__SSE2__)
+    _mm_pause();
+#endif
+}
 
 /// This thread's index in its OpenMP team and the team's size ({0, 1} outside a parallel region
 /// or without OpenMP).
@@ -116,7 +130,7 @@ double max_over_rows(const Mx& F, const std::vector<double>& B, Value&& value) {
     if constexpr (DenseRowMatrix<Mx>) {
         const BandMajor<K> b(B);
 #if defined(RADIOSITY_WITH_OPENMP)
-#pragma omp parallel for schedule(static) reduction(max : worst) if (n >= parallel_rows)
+#pragma omp parallel for schedule(static) reduction(max : worst) if (worth_threads(n, K))
 #endif
         for (std::int64_t s = 0; s < count; ++s) {
             const auto i = static_cast<std::size_t>(s);
@@ -126,7 +140,7 @@ double max_over_rows(const Mx& F, const std::vector<double>& B, Value&& value) {
         }
     } else {
 #if defined(RADIOSITY_WITH_OPENMP)
-#pragma omp parallel for schedule(static) reduction(max : worst) if (n >= parallel_rows)
+#pragma omp parallel for schedule(static) reduction(max : worst) if (worth_threads(n, K))
 #endif
         for (std::int64_t s = 0; s < count; ++s) {
             const auto i = static_cast<std::size_t>(s);

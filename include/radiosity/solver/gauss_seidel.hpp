@@ -119,7 +119,7 @@ class GaussSeidel {
         double change = 0.0;
         std::optional<detail::BandMajor<K>> result;
 #if defined(RADIOSITY_WITH_OPENMP)
-#pragma omp parallel if (n >= detail::parallel_rows)
+#pragma omp parallel if (detail::worth_threads(n, K))
 #endif
         {
             detail::BandMajor<K> mine = B;  // read and written by this thread only
@@ -149,9 +149,15 @@ class GaussSeidel {
             if (gathered.fetch_add(rows, std::memory_order_release) + rows == block_size)
                 gathered.notify_all();
         }
-        /// Returns once all block_size rows are gathered (a short spin, then sleep: C++20's
-        /// atomic wait), their sums then visible to this thread.
+        /// Returns once all block_size rows are gathered, their sums then visible to this thread.
+        /// It spins a while first: a block's gather can take well under a millisecond, less than
+        /// waking from sleep; then it sleeps (C++20's atomic wait), not to take a busy machine's
+        /// time from the very thread it waits for.
         void wait_until(std::size_t block_size) {
+            for (int spin = 0; spin < 4096; ++spin) {
+                if (gathered.load(std::memory_order_acquire) == block_size) return;
+                detail::spin_pause();
+            }
             for (std::size_t g = gathered.load(std::memory_order_acquire); g != block_size;
                  g = gathered.load(std::memory_order_acquire))
                 gathered.wait(g, std::memory_order_acquire);
