@@ -1,7 +1,9 @@
 // Time per solve of each solver on a physical form-factor matrix: the unit room with a block
 // (bench::room_with_block, hemicube form factors) at about 1k and 4k patches, grey reflectance
 // 0.7 with one emitting patch, to a relative tolerance of 1e-6. The direct LU solve runs at 1k
-// only (O(n^3)). Form factors are computed once per size, outside the timing.
+// only (O(n^3)). Gauss-Seidel also runs at about 10k patches (a 413 MB matrix: its sweeps are
+// bound by memory), on all threads and on one, as the sweep over dense rows is shared among
+// threads. Form factors are computed once per size, outside the timing.
 #include <radiosity/form_factor/hemicube.hpp>
 #include <radiosity/form_factor/matrix.hpp>
 #include <radiosity/solver/direct.hpp>
@@ -14,6 +16,10 @@
 #include <benchmark/benchmark.h>
 
 #include <map>
+
+#if defined(RADIOSITY_WITH_OPENMP)
+#include <omp.h>
+#endif
 
 using namespace radiosity;
 
@@ -62,6 +68,16 @@ void jacobi(benchmark::State& s) {
 void gauss_seidel(benchmark::State& s) {
     solve(s, GaussSeidel({1e-6, 10000}));
 }
+void gauss_seidel_one_thread(benchmark::State& s) {
+#if defined(RADIOSITY_WITH_OPENMP)
+    const int before = omp_get_max_threads();
+    omp_set_num_threads(1);
+    solve(s, GaussSeidel({1e-6, 10000}));
+    omp_set_num_threads(before);
+#else
+    solve(s, GaussSeidel({1e-6, 10000}));
+#endif
+}
 void progressive(benchmark::State& s) {
     solve(s, Progressive({1e-6, 0, 0, false}));
 }
@@ -71,8 +87,9 @@ void direct(benchmark::State& s) {
 
 }  // namespace
 
-// k = 12 and 24: 1134 and 4350 patches.
+// k = 12, 24 and 37: 1134, 4350 and about 10k patches.
 BENCHMARK(jacobi)->Arg(12)->Arg(24)->Unit(benchmark::kMillisecond);
-BENCHMARK(gauss_seidel)->Arg(12)->Arg(24)->Unit(benchmark::kMillisecond);
+BENCHMARK(gauss_seidel)->Arg(12)->Arg(24)->Arg(37)->Unit(benchmark::kMillisecond);
+BENCHMARK(gauss_seidel_one_thread)->Arg(37)->Unit(benchmark::kMillisecond);
 BENCHMARK(progressive)->Arg(12)->Arg(24)->Unit(benchmark::kMillisecond);
 BENCHMARK(direct)->Arg(12)->Unit(benchmark::kMillisecond);

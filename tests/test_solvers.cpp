@@ -1,7 +1,8 @@
 // The four solvers against the exact solutions of ../shared/refdata/cases.json: the furnace
 // (B = E / (1 - rho) in a closed box), a sphere of 8 patches that see themselves (F_ii != 0),
 // infinite parallel plates, and a cube with one emitting face. Also the iteration guard,
-// cancellation and bad input.
+// cancellation and bad input; the dense gather kernel, and the sweeps over dense rows against
+// the generic ones and across thread counts.
 #include <radiosity/form_factor/matrix.hpp>
 #include <radiosity/solver/direct.hpp>
 #include <radiosity/solver/gauss_seidel.hpp>
@@ -13,6 +14,12 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <cstring>
+#include <random>
+
+#if defined(RADIOSITY_WITH_OPENMP)
+#include <omp.h>
+#endif
 
 using namespace radiosity;
 
@@ -206,4 +213,114 @@ TEST_CASE("no emission: B = 0 at once, with residual 0") {
         CHECK(s.report.residual == 0.0);
         for (float b : s.radiosity) CHECK(b == 0.0f);
     }
+}
+
+namespace {
+
+/// A random system of n patches in the shape of radiosity's: rows half zeros, F_ij up to 1.8 / n
+/// (row sums about 0.45), every seventh patch seeing itself (F_ii = 0.3), reflectance below 0.9
+/// per band and one emitter in fifty. Diagonally dominant, so every sweep converges.
+struct RandomSystem {
+    DenseMatrix F;
+    std::vector<Rgb> E, R;
+    std::vector<double> area;
+};
+
+RandomSystem random_system(std::size_t n, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    RandomSystem s{DenseMatrix(n), {}, {}, std::vector<double>(n, 1.0)};
+    for (std::size_t i = 0; i < n; ++i) {
+        for (float& f : s.F.row(i)) {
+            const float x = u(rng);
+            f = x < 0.5f ? 0.0f : (x - 0.5f) * 3.6f / static_cast<float>(n);
+        }
+        s.F.row(i)[i] = i % 7 == 0 ? 0.3f : 0.0f;
+        s.R.emplace_back(0.9f * u(rng), 0.9f * u(rng), 0.9f * u(rng));
+        s.E.push_back(i % 50 == 0 ? Rgb(u(rng), 2.0f * u(rng), 3.0f * u(rng)) : Rgb());
+    }
+    return s;
+}
+
+/// The same matrix with every entry stored sparse: the solvers' generic, entry-by-entry path.
+SparseMatrix all_entries(const DenseMatrix& F) {
+    std::vector<std::vector<std::pair<std::uint32_t, float>>> rows(F.size());
+    for (std::size_t i = 0; i < F.size(); ++i)
+        for (std::size_t j = 0; j < F.size(); ++j)
+            rows[i].emplace_back(static_cast<std::uint32_t>(j), F(i, j));
+    return SparseMatrix::from_rows(rows);
+}
+
+}  // namespace
+
+TEST_CASE("the dense gather is accurate to double rounding") {
+    const std::size_t n = 1003;  // not a multiple of 8: the last terms take the scalar tail
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::vector<float> f(n);
+    std::vector<double> B(3 * n);
+    for (float& x : f) x = static_cast<float>(u(rng));
+    for (double& x : B) x = u(rng);
+    for (std::size_t begin : {std::size_t(0), std::size_t(5)}) {
+        double out[3];
+        detail::dense_dot<3>(f.data(), B.data(), n, begin, n, out);
+        for (std::size_t k = 0; k < 3; ++k) {
+            long double exact = 0.0L;
+            for (std::size_t j = begin; j < n; ++j)
+                exact += static_cast<long double>(f[j]) * B[k * n + j];
+            CHECK(std::abs(out[k] - static_cast<double>(exact)) <= 1e-14 * out[k]);
+        }
+    }
+}
+
+TEST_CASE("over dense rows the sweeps give the generic path's B") {
+    // 2500 patches: enough to share the passes among threads (detail::worth_threads), and
+    // neither a multiple of the blocks (256) nor of the 8 rows taken at a time. A fixed number of
+    // sweeps, so both do the same work; they add in different orders, so B agrees to double
+    // rounding, well inside one float.
+    const RandomSystem s = random_system(2500, 1);
+    const SparseMatrix generic = all_entries(s.F);
+    const System<Rgb> system{s.E, s.R, s.area};
+    const auto check_same = [](const Solution<Rgb>& dense, const Solution<Rgb>& sparse) {
+        CAPTURE(dense.report.solver);
+        CHECK(dense.report.iterations == sparse.report.iterations);
+        CHECK(dense.report.residual == doctest::Approx(sparse.report.residual).epsilon(1e-9));
+        for (std::size_t i = 0; i < dense.radiosity.size(); ++i)
+            for (std::size_t k = 0; k < 3; ++k) {
+                const double a = band(dense.radiosity[i], k), b = band(sparse.radiosity[i], k);
+                CHECK(std::abs(a - b) <= 1e-12 * std::abs(b));
+            }
+    };
+    check_same(GaussSeidel({0.0, 12}).solve(system, s.F),
+               GaussSeidel({0.0, 12}).solve(system, generic));
+    check_same(Jacobi({0.0, 12}).solve(system, s.F), Jacobi({0.0, 12}).solve(system, generic));
+}
+
+TEST_CASE("the sweeps give bit-identical B for 1, 2 and 3 threads") {
+#if defined(RADIOSITY_WITH_OPENMP)
+    const RandomSystem s = random_system(2500, 2);
+    REQUIRE(detail::worth_threads(2500, 3));
+    const System<Rgb> system{s.E, s.R, s.area};
+    const int before = omp_get_max_threads();
+    std::vector<Solution<Rgb>> gs, jacobi;
+    for (int threads : {1, 2, 3}) {
+        omp_set_num_threads(threads);
+        gs.push_back(GaussSeidel({1e-9, 1000}).solve(system, s.F));
+        jacobi.push_back(Jacobi({1e-9, 1000}).solve(system, s.F));
+    }
+    omp_set_num_threads(before);
+    for (const auto* runs : {&gs, &jacobi})
+        for (std::size_t t = 1; t < 3; ++t) {
+            const auto &one = (*runs)[0], &other = (*runs)[t];
+            CAPTURE(one.report.solver);
+            CAPTURE(t + 1);
+            CHECK(one.report.converged);
+            CHECK(other.report.iterations == one.report.iterations);
+            CHECK(other.report.residual == one.report.residual);
+            CHECK(std::memcmp(other.radiosity.data(), one.radiosity.data(),
+                              one.radiosity.size() * sizeof(Rgb)) == 0);
+        }
+#else
+    MESSAGE("built without OpenMP: every run is single-threaded");
+#endif
 }

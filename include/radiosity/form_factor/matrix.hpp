@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <concepts>
 #include <cstdint>
 #include <new>
 #include <string>
@@ -126,6 +127,14 @@ class DenseMatrix {
     std::vector<float, detail::MatrixAllocator<float>> f_;
 };
 
+/// An assembled matrix whose rows are stored as contiguous floats: `m.row(i)` views the n
+/// entries F_i0 .. F_i(n-1). The sweeping solvers then gather with the vectorised dense kernel
+/// (detail/dense_dot.hpp) instead of visiting entries one at a time.
+template <class Mx>
+concept DenseRowMatrix = AssembledMatrix<Mx> && requires(const Mx& m, std::size_t i) {
+    { m.row(i) } -> std::convertible_to<std::span<const float>>;
+};
+
 /// Sparse rows (compressed sparse row): only entries above a threshold are kept. Dropping small
 /// entries loses energy, which check_matrix reports as row sums below 1.
 class SparseMatrix {
@@ -166,6 +175,8 @@ class SparseMatrix {
     std::vector<std::uint32_t> column_;
     std::vector<float> value_;
 };
+
+static_assert(DenseRowMatrix<DenseMatrix> && !DenseRowMatrix<SparseMatrix>);
 
 namespace detail {
 /// Runs body(i) for every row i, in parallel with OpenMP when available, reporting progress from

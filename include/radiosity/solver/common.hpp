@@ -1,10 +1,13 @@
 #pragma once
 /// @file common.hpp  What the solvers share: patch values as doubles (K bands per patch,
-/// interleaved), the gather sum_j F_ij B_j over an assembled row, the relative residual of
-/// B = E + R F B, a stopwatch, and the checks of a system against its matrix.
+/// interleaved), the gather sum_j F_ij B_j over an assembled row, a parallel pass gathering every
+/// row, the relative residual of B = E + R F B, a stopwatch, and the checks of a system against
+/// its matrix.
 
 #include <radiosity/concepts.hpp>
+#include <radiosity/detail/dense_dot.hpp>
 #include <radiosity/error.hpp>
+#include <radiosity/form_factor/matrix.hpp>
 #include <radiosity/solver/system.hpp>
 #include <radiosity/spectrum.hpp>
 
@@ -13,9 +16,17 @@
 #include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
+
+#if defined(RADIOSITY_WITH_OPENMP)
+#include <omp.h>
+#endif
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 namespace radiosity {
 
@@ -76,21 +87,84 @@ inline double emission_scale(const std::vector<double>& E) {
     return m > 0.0 ? m : 1.0;
 }
 
+/// Whether a pass over an n x n system of K bands is worth sharing among threads: from 2^24
+/// products on (a few milliseconds), below which starting and waking threads, on a machine
+/// with other work, can cost more than the pass. Results do not depend on it: the work is cut
+/// the same way either way.
+inline bool worth_threads(std::size_t n, std::size_t K) {
+    return static_cast<double>(n) * static_cast<double>(n) * static_cast<double>(K) >= 0x1p24;
+}
+
+/// A short pause in a spin-wait loop (x86's pause, which frees the core's resources for a
+/// sibling hyper-thread; nothing elsewhere).
+inline void spin_pause() {
+#if defined(__SSE2__)
+    _mm_pause();
+#endif
+}
+
+/// This thread's index in its OpenMP team and the team's size ({0, 1} outside a parallel region
+/// or without OpenMP).
+struct TeamPlace {
+    int thread;   ///< index of this thread, 0 .. threads - 1
+    int threads;  ///< threads in the team
+};
+inline TeamPlace thread_in_team() {
+#if defined(RADIOSITY_WITH_OPENMP)
+    return {omp_get_thread_num(), omp_get_num_threads()};
+#else
+    return {0, 1};
+#endif
+}
+
+/// max over rows i of value(i, acc), where acc[k] = sum_j F_ij B_j[k] is row i's gather over B
+/// (interleaved, as to_doubles gives it). Rows run in parallel, so value must be safe to call
+/// for different rows at once; each row's sum is made by one thread in a fixed order and max is
+/// exact, so the result does not depend on the thread count. Dense rows take the vectorised
+/// kernel of dense_dot.hpp. Cost: one pass over F.
+template <std::size_t K, AssembledMatrix Mx, class Value>
+double max_over_rows(const Mx& F, const std::vector<double>& B, Value&& value) {
+    const std::size_t n = F.size();
+    const auto count = static_cast<std::int64_t>(n);
+    double worst = 0.0;
+    if constexpr (DenseRowMatrix<Mx>) {
+        const BandMajor<K> b(B);
+#if defined(RADIOSITY_WITH_OPENMP)
+#pragma omp parallel for schedule(static) reduction(max : worst) if (worth_threads(n, K))
+#endif
+        for (std::int64_t s = 0; s < count; ++s) {
+            const auto i = static_cast<std::size_t>(s);
+            std::array<double, K> acc;
+            dense_dot<K>(F.row(i).data(), b.data(), b.stride(), 0, n, acc.data());
+            worst = std::max(worst, value(i, acc.data()));
+        }
+    } else {
+#if defined(RADIOSITY_WITH_OPENMP)
+#pragma omp parallel for schedule(static) reduction(max : worst) if (worth_threads(n, K))
+#endif
+        for (std::int64_t s = 0; s < count; ++s) {
+            const auto i = static_cast<std::size_t>(s);
+            std::array<double, K> acc;
+            gather<K>(F, i, B, acc.data());
+            worst = std::max(worst, value(i, acc.data()));
+        }
+    }
+    return worst;
+}
+
 /// The relative residual ||E + R F B - B||_inf / ||E||_inf of the radiosity equation at B.
-/// Cost: one pass over the matrix.
+/// Cost: one pass over the matrix, rows in parallel (max_over_rows).
 template <std::size_t K, AssembledMatrix Mx>
 double relative_residual(const Mx& F, const std::vector<double>& E, const std::vector<double>& R,
                          const std::vector<double>& B) {
-    const std::size_t n = F.size();
-    double worst = 0.0;
-    std::array<double, K> acc;
-    for (std::size_t i = 0; i < n; ++i) {
-        gather<K>(F, i, B, acc.data());
+    const double worst = max_over_rows<K>(F, B, [&](std::size_t i, const double* acc) {
+        double w = 0.0;
         for (std::size_t k = 0; k < K; ++k) {
             const std::size_t ik = i * K + k;
-            worst = std::max(worst, std::abs(E[ik] + R[ik] * acc[k] - B[ik]));
+            w = std::max(w, std::abs(E[ik] + R[ik] * acc[k] - B[ik]));
         }
-    }
+        return w;
+    });
     return worst / emission_scale(E);
 }
 

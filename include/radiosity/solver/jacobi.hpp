@@ -33,7 +33,6 @@ class Jacobi {
         detail::check_system(system, F.size(), "jacobi");
         const detail::Stopwatch clock;
         constexpr std::size_t K = band_count<S>;
-        const std::size_t n = system.size();
         const std::vector<double> E = detail::to_doubles(system.emission),
                                   R = detail::to_doubles(system.reflectance);
         std::vector<double> B = E, next(B.size());
@@ -42,7 +41,7 @@ class Jacobi {
         detail::sweep_until(
             report,
             [&] {
-                const double change = sweep<K>(F, E, R, B, next, n);
+                const double change = sweep<K>(F, E, R, B, next);
                 B.swap(next);
                 return change;
             },
@@ -55,23 +54,16 @@ class Jacobi {
     /// next = E + R F B, in parallel over rows; returns max |next - B|.
     template <std::size_t K, AssembledMatrix Mx>
     static double sweep(const Mx& F, const std::vector<double>& E, const std::vector<double>& R,
-                        const std::vector<double>& B, std::vector<double>& next, std::size_t n) {
-        double change = 0.0;
-        const auto count = static_cast<std::int64_t>(n);
-#if defined(RADIOSITY_WITH_OPENMP)
-#pragma omp parallel for schedule(static) reduction(max : change)
-#endif
-        for (std::int64_t s = 0; s < count; ++s) {
-            const auto i = static_cast<std::size_t>(s);
-            std::array<double, K> acc;
-            detail::gather<K>(F, i, B, acc.data());
+                        const std::vector<double>& B, std::vector<double>& next) {
+        return detail::max_over_rows<K>(F, B, [&](std::size_t i, const double* acc) {
+            double change = 0.0;
             for (std::size_t k = 0; k < K; ++k) {
                 const std::size_t ik = i * K + k;
                 next[ik] = E[ik] + R[ik] * acc[k];
                 change = std::max(change, std::abs(next[ik] - B[ik]));
             }
-        }
-        return change;
+            return change;
+        });
     }
 
     JacobiOptions options_;
