@@ -282,22 +282,20 @@ void step_rows(const ScreenVertex& v0, const ScreenVertex& v1, const ScreenVerte
     }
 }
 
-/// Rows first .. last of a walk: each run lies between the single edge on one side of the
-/// triangle (its long edge, from the top vertex to the bottom one) and one short edge on the
-/// other. Both walkers are copied in, so that they live in registers.
-template <bool long_on_left, class Span>
-void walk_run_rows(EdgeWalker& single, EdgeWalker& other, int first, int last, int x0,
+/// Rows first .. last of a walk: each run lies between a left and a right edge. The walkers
+/// are copied in, so that they live in registers.
+template <class Span>
+void walk_run_rows(EdgeWalker& left, EdgeWalker& right, int first, int last, int x0,
                    std::int64_t columns, Span& span) {
-    EdgeWalker a = single, b = other;
+    EdgeWalker a = left, b = right;
     for (int y = first; y <= last; ++y) {
-        const std::int64_t begin = std::max<std::int64_t>(0, long_on_left ? a.t : b.t);
-        const std::int64_t end = std::min(columns, long_on_left ? b.t : a.t);
+        const std::int64_t begin = std::max<std::int64_t>(0, a.t), end = std::min(columns, b.t);
         if (begin < end) span(y, x0 + static_cast<int>(begin), x0 + static_cast<int>(end));
         a.next_row();
         b.next_row();
     }
-    single = a;
-    other = b;
+    left = a;
+    right = b;
 }
 
 /// scan_triangle's rows of a wide box, each edge walked down the rows (EdgeWalker), so that a
@@ -336,32 +334,28 @@ void walk_rows(const ScreenVertex& v0, const ScreenVertex& v1, const ScreenVerte
         const double inv = slope[(k + 1) % 3] * slope[(k + 2) % 3] * inv_product;
         return edge_walker(*v[(k + 1) % 3], *v[(k + 2) % 3], px, at_y, left_side, inv);
     };
-    EdgeWalker single = walker(m, long_on_left, py),
-               upper = walker(bottom_vertex, !long_on_left, py);
+    // The long edge, the upper and the lower short edge; which pair bounds a run on the left
+    // and which on the right is picked by index, not by a branch (either way is as likely).
+    std::array<EdgeWalker, 3> e{walker(m, long_on_left, py),
+                                walker(bottom_vertex, !long_on_left, py), EdgeWalker{}};
+    const std::size_t l = long_on_left ? 0 : 1, r = long_on_left ? 1 : 0;
     // Rows above the middle vertex's, the row through it (or the first below), the rest.
     const std::int64_t split = std::clamp<std::int64_t>(
         -((subpixels / 2 - v[m]->sy) >> subpixel_bits) - y0, top, bottom + 1);
     const std::int64_t columns = x1 - x0 + 1;
     const int first = y0 + static_cast<int>(top), middle = y0 + static_cast<int>(split),
               last = y0 + static_cast<int>(bottom);
-    if (long_on_left)
-        walk_run_rows<true>(single, upper, first, middle - 1, x0, columns, span);
-    else
-        walk_run_rows<false>(single, upper, first, middle - 1, x0, columns, span);
+    walk_run_rows(e[l], e[r], first, middle - 1, x0, columns, span);
     if (middle > last) return;
-    EdgeWalker lower = walker(top_vertex, !long_on_left,
-                              static_cast<std::int64_t>(middle) * subpixels + subpixels / 2);
-    const std::int64_t begin =
-        std::max<std::int64_t>(0, long_on_left ? single.t : std::max(upper.t, lower.t));
-    const std::int64_t end =
-        std::min(columns, long_on_left ? std::min(upper.t, lower.t) : single.t);
+    e[2] = walker(top_vertex, !long_on_left,
+                  static_cast<std::int64_t>(middle) * subpixels + subpixels / 2);
+    const std::size_t l2 = long_on_left ? 0 : 2, r2 = long_on_left ? 2 : 0;
+    const std::int64_t begin = std::max({std::int64_t{0}, e[l].t, e[l2].t});
+    const std::int64_t end = std::min({columns, e[r].t, e[r2].t});
     if (begin < end) span(middle, x0 + static_cast<int>(begin), x0 + static_cast<int>(end));
-    single.next_row();
-    lower.next_row();
-    if (long_on_left)
-        walk_run_rows<true>(single, lower, middle + 1, last, x0, columns, span);
-    else
-        walk_run_rows<false>(single, lower, middle + 1, last, x0, columns, span);
+    e[0].next_row();
+    e[2].next_row();
+    walk_run_rows(e[l2], e[r2], middle + 1, last, x0, columns, span);
 }
 
 /// Scan-converts one screen-space triangle: calls span(y, begin, end) for every row y with
