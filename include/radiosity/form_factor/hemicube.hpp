@@ -366,27 +366,10 @@ class Hemicube {
               const detail::ScreenVertex* s, bool inside, int w, int h,
               std::vector<std::int32_t>& id, std::vector<double>& depth) const {
         const std::uint32_t first = first_[j], count = first_[j + 1] - first;
-        const auto index = static_cast<std::int32_t>(j);
-        // Captures by value, not by reference: the compiler cannot tell that the stores below
-        // leave referenced values alone, and would load them again and again.
-        auto span = [zbuffer = depth.data(), items = id.data(), w, index](const DepthSpan& s) {
-            const std::int32_t who = index;
-            const double z0 = s.z0, dzdx = s.dzdx;
-            const auto row = static_cast<std::size_t>(s.y * w);
-            double* const d = zbuffer + row;
-            std::int32_t* const item = items + row;
-            double x = s.begin;  // pixel column as a double: no conversion per pixel
-            for (int px = s.begin; px < s.end; ++px, x += 1.0) {
-                const double z = z0 + dzdx * x;
-                if (z < d[px]) {
-                    d[px] = z;
-                    item[px] = who;
-                }
-            }
-        };
+        const detail::NearestItems items{depth.data(), id.data(), w, static_cast<std::int32_t>(j)};
         if (inside) {
             for (std::uint32_t k = 1; k + 1 < count; ++k)
-                detail::draw_depth(s[0], s[k], s[k + 1], w, h, span);
+                detail::draw_nearest(s[0], s[k], s[k + 1], w, h, items);
             return;
         }
         std::array<Vec4, 16> clip;
@@ -397,7 +380,7 @@ class Hemicube {
                 face, {seen.axis[0][first + k], seen.axis[1][first + k], seen.axis[2][first + k]},
                 A_, B_);
         for (std::uint32_t k = 1; k + 1 < count; ++k)
-            rasterize_depth({p[0], p[k], p[k + 1]}, w, h, span);
+            rasterize_depth({p[0], p[k], p[k + 1]}, w, h, items);
     }
 
     /// Adds the delta form factor of every pixel to the patch seen there. Neighbouring pixels

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -364,10 +365,12 @@ void walk_rows(const ScreenVertex& v0, const ScreenVertex& v1, const ScreenVerte
 /// is covered when none is negative, with the top-left rule on edges. A narrow box is stepped
 /// pixel by pixel (step_rows); a wide one is walked edge by edge (walk_rows), so that its long
 /// thin triangles, common near a hemicube's centre, cost O(rows), not O(rows x width). Both
-/// cover exactly the same pixels. Cost: O(rows + pixels drawn), plus O(box) when narrow.
-template <class Span>
+/// cover exactly the same pixels. A caller may handle narrow boxes itself: narrow(v0, v1, v2,
+/// x0, x1, y0, y1, px, py) gets the oriented triangle, its box and the centre of its first
+/// pixel. Cost: O(rows + pixels drawn), plus O(box) when narrow.
+template <class Span, class NarrowBox>
 void scan_triangle(const ScreenVertex& v0, const ScreenVertex& a, const ScreenVertex& b, int width,
-                   int height, Span&& span) {
+                   int height, Span&& span, NarrowBox&& narrow) {
     const std::int64_t area = edge(v0, a, b.sx, b.sy);
     if (area == 0) return;  // seen edge-on: covers no pixel
     // Oriented consistently (positive area); both windings are drawn (no culling).
@@ -388,10 +391,21 @@ void scan_triangle(const ScreenVertex& v0, const ScreenVertex& a, const ScreenVe
     if (x0 > x1 || y0 > y1) return;
     const std::int64_t px = x0 * subpixels + half, py = y0 * subpixels + half;
     if (x1 - x0 + 1 < walk_min_columns) {
-        step_rows(v0, v1, v2, x0, x1, y0, y1, px, py, span);
+        narrow(v0, v1, v2, x0, x1, y0, y1, px, py);
         return;
     }
     walk_rows(v0, v1, v2, x0, x1, y0, y1, px, py, span);
+}
+
+/// scan_triangle as above, with the rows of a narrow box stepped pixel by pixel (step_rows).
+template <class Span>
+void scan_triangle(const ScreenVertex& v0, const ScreenVertex& a, const ScreenVertex& b, int width,
+                   int height, Span&& span) {
+    scan_triangle(v0, a, b, width, height, span,
+                  [&span](const ScreenVertex& u0, const ScreenVertex& u1, const ScreenVertex& u2,
+                          int x0, int x1, int y0, int y1, std::int64_t px, std::int64_t py) {
+                      step_rows(u0, u1, u2, x0, x1, y0, y1, px, py, span);
+                  });
 }
 
 /// Clips a clip-space triangle (near plane, guard band), projects it, and scan-converts the
@@ -482,6 +496,83 @@ void draw_depth(const ScreenVertex& v0, const ScreenVertex& v1, const ScreenVert
     scan_triangle(v0, v1, v2, width, height, [&visit, z0, dzdx, dzdy](int y, int begin, int end) {
         visit(DepthSpan{y, begin, end, z0 + dzdy * y, dzdx});
     });
+}
+
+/// A z-buffer with an item per pixel, rows of `width` pixels, and the item `who` being drawn:
+/// as a DepthSpan visitor, keeps who wherever its depth is less than the buffer's (the first
+/// drawn wins a tie).
+struct NearestItems {
+    double* depth;
+    std::int32_t* item;
+    int width;
+    std::int32_t who;
+
+    void operator()(const DepthSpan& s) const {
+        const auto row = static_cast<std::size_t>(s.y) * static_cast<std::size_t>(width);
+        double* const d = depth + row;
+        std::int32_t* const it = item + row;
+        const double z0 = s.z0, dzdx = s.dzdx;
+        const std::int32_t id = who;
+        double x = s.begin;  // pixel column as a double: no conversion per pixel
+        for (int px = s.begin; px < s.end; ++px, x += 1.0) {
+            const double z = z0 + dzdx * x;
+            if (z < d[px]) {
+                d[px] = z;
+                it[px] = id;
+            }
+        }
+    }
+};
+
+/// Draws one screen-space triangle into a z-buffer with items (NearestItems): the pixels that
+/// draw_depth visits, with the same z/w, and the same decisions. A wide box goes by runs; in a
+/// narrow one (a few columns, most triangles of a hemicube) every pixel of the box is tested,
+/// coverage and depth together, without a branch: the runs there are a pixel or two, and the
+/// branches that find and draw them mispredict more often than not.
+inline void draw_nearest(const ScreenVertex& v0, const ScreenVertex& v1, const ScreenVertex& v2,
+                         int width, int height, NearestItems items) {
+    const double x1 = v1.x - v0.x, y1 = v1.y - v0.y, z1 = v1.z - v0.z;
+    const double x2 = v2.x - v0.x, y2 = v2.y - v0.y, z2 = v2.z - v0.z;
+    const double det = x1 * y2 - x2 * y1;
+    if (det == 0.0 || !std::isfinite(det)) return;
+    const double inv_det = 1.0 / det;
+    const double dzdx = (z1 * y2 - z2 * y1) * inv_det, dzdy = (z2 * x1 - z1 * x2) * inv_det;
+    const double z0 = v0.z + dzdx * (0.5 - v0.x) + dzdy * (0.5 - v0.y);  // at pixel (0, 0)
+    auto span = [items, z0, dzdx, dzdy](int y, int begin, int end) {
+        items(DepthSpan{y, begin, end, z0 + dzdy * y, dzdx});
+    };
+    auto narrow = [items, z0, dzdx, dzdy](const ScreenVertex& u0, const ScreenVertex& u1,
+                                          const ScreenVertex& u2, int bx0, int bx1, int by0,
+                                          int by1, std::int64_t px, std::int64_t py) {
+        EdgeStepper e0 = edge_stepper(u1, u2, px, py), e1 = edge_stepper(u2, u0, px, py),
+                    e2 = edge_stepper(u0, u1, px, py);
+        for (int y = by0; y <= by1; ++y) {
+            const auto row = static_cast<std::size_t>(y) * static_cast<std::size_t>(items.width);
+            double* const d = items.depth + row;
+            std::int32_t* const it = items.item + row;
+            const double zy = z0 + dzdy * y;  // as DepthSpan's z0: the same z, bit for bit
+            std::int64_t a = e0.value, b = e1.value, c = e2.value;
+            double x = bx0;
+            for (int col = bx0; col <= bx1; ++col, x += 1.0) {
+                const double z = zy + dzdx * x;
+                // All ones where covered and nearer: the stores below select by mask (as
+                // written, with ?:, the compiler would branch).
+                const std::int64_t nearer =
+                    -static_cast<std::int64_t>(((a | b | c) >= 0) & (z < d[col]));
+                const auto old_z = std::bit_cast<std::int64_t>(d[col]);
+                d[col] = std::bit_cast<double>(old_z ^
+                                               ((old_z ^ std::bit_cast<std::int64_t>(z)) & nearer));
+                it[col] ^= (it[col] ^ items.who) & static_cast<std::int32_t>(nearer);
+                a += e0.step_x;
+                b += e1.step_x;
+                c += e2.step_x;
+            }
+            e0.value += e0.step_y;
+            e1.value += e1.step_y;
+            e2.value += e2.step_y;
+        }
+    };
+    scan_triangle(v0, v1, v2, width, height, span, narrow);
 }
 
 }  // namespace detail
