@@ -264,20 +264,46 @@ class Hemicube {
     /// FaceProjection), exactly as rasterize_depth would project each.
     void project(const detail::HemicubeView& seen, std::size_t k, int w, int h,
                  detail::FaceProjection& projected) const {
-        const detail::HemicubeFace& face = detail::hemicube_faces[k];
         const std::vector<std::uint32_t>& list = seen.patches[k];
         std::size_t vertices = 0;
         for (const std::uint32_t j : list) vertices += first_[j + 1] - first_[j];
         if (projected.screen.size() < vertices) projected.screen.resize(vertices);  // grown only
         projected.inside.resize(list.size());
+        // One loop per face, with the face's axes known at compile time: the clip coordinates
+        // come straight from the frame's arrays, not through an array indexed at run time.
+        switch (k) {
+            case 0:
+                return project_face<0>(seen, w, h, projected);
+            case 1:
+                return project_face<1>(seen, w, h, projected);
+            case 2:
+                return project_face<2>(seen, w, h, projected);
+            case 3:
+                return project_face<3>(seen, w, h, projected);
+            default:
+                return project_face<4>(seen, w, h, projected);
+        }
+    }
+
+    template <std::size_t K>
+    void project_face(const detail::HemicubeView& seen, int w, int h,
+                      detail::FaceProjection& projected) const {
+        static constexpr detail::HemicubeFace face = detail::hemicube_faces[K];
+        const std::vector<std::uint32_t>& list = seen.patches[K];
+        const double* const x_axis = seen.axis[face.x_axis].data();
+        const double* const w_axis = seen.axis[face.w_axis].data();
+        const double* const v_axis = seen.axis[1].data();
+        const double* const n_axis = seen.axis[2].data();
         const double extent = std::max(w, h);
         static constexpr glm::dvec3 unused{1, 0, 0};  // barycentric weights: not needed
         detail::ScreenVertex* s = projected.screen.data();
         for (std::size_t n = 0; n < list.size(); ++n) {
             bool inside = true;
             for (std::uint32_t v = first_[list[n]]; v < first_[list[n] + 1]; ++v) {
-                const Vec4 p = detail::face_clip(
-                    face, {seen.axis[0][v], seen.axis[1][v], seen.axis[2][v]}, A_, B_);
+                // face_clip's coordinates, term for term
+                const double x = face.x_sign * x_axis[v], depth = face.w_sign * w_axis[v];
+                const Vec4 p{x, face.side ? 2.0 * n_axis[v] - depth : v_axis[v], A_ * depth + B_,
+                             depth};
                 const bool in = detail::inside_guard_band(p, extent);
                 inside = inside && in;
                 // A vertex outside is not projected (w may be 0): its patch will be clipped.
