@@ -236,9 +236,12 @@ inline void horizontal_rows(const ScreenVertex& a, const ScreenVertex& b, std::i
     }
 }
 
-/// Boxes at least this many columns wide are walked edge by edge (EdgeWalker); narrower ones
-/// are stepped pixel by pixel, where the walk's set-up would cost more than it saves.
+/// Boxes at least this many columns wide and of more than walk_min_pixels pixels are walked
+/// edge by edge (EdgeWalker); smaller ones are stepped pixel by pixel, where the walk's set-up
+/// (a division and a dozen multiplications) would cost more than it saves. Both measured on
+/// the hemicubes of a cluttered room (RRV's room3).
 inline constexpr int walk_min_columns = 8;
+inline constexpr int walk_min_pixels = 48;  ///< see walk_min_columns
 
 /// One edge function of a triangle set up for stepping: its value at the current pixel centre,
 /// lowered by 1 where the edge is not owned so that "covered" is simply value >= 0, and its
@@ -362,12 +365,12 @@ void walk_rows(const ScreenVertex& v0, const ScreenVertex& v1, const ScreenVerte
 /// Scan-converts one screen-space triangle: calls span(y, begin, end) for every row y with
 /// pixels begin .. end - 1 covered (their centres inside; a triangle is convex, so a row covers
 /// one run). Coverage is that of the three exact integer edge functions (Pineda 1988): a pixel
-/// is covered when none is negative, with the top-left rule on edges. A narrow box is stepped
-/// pixel by pixel (step_rows); a wide one is walked edge by edge (walk_rows), so that its long
-/// thin triangles, common near a hemicube's centre, cost O(rows), not O(rows x width). Both
-/// cover exactly the same pixels. A caller may handle narrow boxes itself: narrow(v0, v1, v2,
-/// x0, x1, y0, y1, px, py) gets the oriented triangle, its box and the centre of its first
-/// pixel. Cost: O(rows + pixels drawn), plus O(box) when narrow.
+/// is covered when none is negative, with the top-left rule on edges. A narrow or small box
+/// (walk_min_columns) is stepped pixel by pixel (step_rows); a wide one is walked edge by edge
+/// (walk_rows), so that its long thin triangles, common near a hemicube's centre, cost O(rows),
+/// not O(rows x width). Both cover exactly the same pixels. A caller may handle the narrow
+/// boxes itself: narrow(v0, v1, v2, x0, x1, y0, y1, px, py) gets the oriented triangle, its
+/// box and the centre of its first pixel. Cost: O(rows + pixels drawn), plus O(box) when narrow.
 template <class Span, class NarrowBox>
 void scan_triangle(const ScreenVertex& v0, const ScreenVertex& a, const ScreenVertex& b, int width,
                    int height, Span&& span, NarrowBox&& narrow) {
@@ -390,7 +393,7 @@ void scan_triangle(const ScreenVertex& v0, const ScreenVertex& a, const ScreenVe
         static_cast<int>(std::min<std::int64_t>(height - 1, last(std::max({v0.sy, v1.sy, v2.sy}))));
     if (x0 > x1 || y0 > y1) return;
     const std::int64_t px = x0 * subpixels + half, py = y0 * subpixels + half;
-    if (x1 - x0 + 1 < walk_min_columns) {
+    if (x1 - x0 + 1 < walk_min_columns || (x1 - x0 + 1) * (y1 - y0 + 1) <= walk_min_pixels) {
         narrow(v0, v1, v2, x0, x1, y0, y1, px, py);
         return;
     }
