@@ -156,6 +156,15 @@ struct HemicubeView {
     std::array<std::vector<std::uint32_t>, 5> patches;
 };
 
+/// The vertices of the patches listed for one face, projected before any is drawn (a loop
+/// without branches, whose divisions overlap), patch after patch; and per listed patch whether
+/// all its vertices lie in front of the near plane and inside the guard band (else it is
+/// clipped, and drawn from its clip coordinates).
+struct FaceProjection {
+    std::vector<ScreenVertex> screen;
+    std::vector<std::uint8_t> inside;
+};
+
 /// The buffers of one hemicube, kept by each thread from row to row so that a row allocates
 /// and clears only what it must (rows are computed by the thousand).
 struct HemicubeWorkspace {
@@ -163,6 +172,7 @@ struct HemicubeWorkspace {
     std::vector<double> F, depth;
     std::vector<std::int32_t> id;
     std::vector<std::uint32_t> starts;  // accumulate's run starts, grown to the largest face
+    FaceProjection projected;
 };
 
 }  // namespace detail
@@ -212,16 +222,17 @@ class Hemicube {
         std::vector<double>& F = work.F;
         F.assign(t.size(), 0.0);
         for (std::size_t k = 0; k < 5; ++k) {
-            item_buffer(work.seen, k, work.id, work.depth);
+            item_buffer(work.seen, k, work.id, work.depth, work.projected);
             accumulate(k > 0 ? side_prefix_ : top_prefix_, work.id, work.starts, F);
         }
         // A patch seen from behind keeps its pixels (it occludes) but takes nothing: the light
         // that strikes its back is absorbed.
         const Vec3& c = t.centroid(i);
-        for (std::size_t j = 0; j < t.size(); ++j) {
-            const bool front = glm::dot(c - t.centroid(j), t.normal(j)) > 0.0;
-            out[j] = front ? static_cast<float>(F[j]) : 0.0f;
-        }
+        // Most patches are not seen at all: test the side only of those that are.
+        for (std::size_t j = 0; j < t.size(); ++j)
+            out[j] = F[j] != 0.0 && glm::dot(c - t.centroid(j), t.normal(j)) > 0.0
+                         ? static_cast<float>(F[j])
+                         : 0.0f;
     }
 
     /// The item buffers of patch i's hemicube, for teaching and debugging: for the top face and
@@ -232,8 +243,9 @@ class Hemicube {
         std::array<std::vector<std::int32_t>, 5> ids;
         std::vector<double> depth;
         detail::HemicubeView seen;
+        detail::FaceProjection projected;
         view(i, seen);
-        for (std::size_t k = 0; k < 5; ++k) item_buffer(seen, k, ids[k], depth);
+        for (std::size_t k = 0; k < 5; ++k) item_buffer(seen, k, ids[k], depth, projected);
         return ids;
     }
     /// Delta form factor of each top-face pixel, row after row.
@@ -271,14 +283,73 @@ class Hemicube {
     }
 
     /// Draws the patches that may show on face k into its z-buffer, keeping the nearest patch
-    /// per pixel.
+    /// per pixel: projects all their vertices first, then draws them in index order.
     void item_buffer(const detail::HemicubeView& seen, std::size_t k, std::vector<std::int32_t>& id,
-                     std::vector<double>& depth) const {
+                     std::vector<double>& depth, detail::FaceProjection& projected) const {
         const detail::HemicubeFace& face = detail::hemicube_faces[k];
         const int w = options_.resolution, h = face.side ? w / 2 : w;
         id.assign(static_cast<std::size_t>(w * h), -1);
         depth.assign(id.size(), std::numeric_limits<double>::infinity());
-        for (const std::uint32_t j : seen.patches[k]) draw(j, seen, face, w, h, id, depth);
+        project(seen, k, w, h, projected);
+        const detail::ScreenVertex* s = projected.screen.data();
+        for (std::size_t n = 0; n < seen.patches[k].size(); ++n) {
+            const std::uint32_t j = seen.patches[k][n];
+            draw(j, seen, face, s, projected.inside[n] != 0, w, h, id, depth);
+            s += first_[j + 1] - first_[j];
+        }
+    }
+
+    /// Projects the vertices of the patches listed for face k onto its w x h raster (see
+    /// FaceProjection), exactly as rasterize_depth would project each.
+    void project(const detail::HemicubeView& seen, std::size_t k, int w, int h,
+                 detail::FaceProjection& projected) const {
+        const std::vector<std::uint32_t>& list = seen.patches[k];
+        std::size_t vertices = 0;
+        for (const std::uint32_t j : list) vertices += first_[j + 1] - first_[j];
+        if (projected.screen.size() < vertices) projected.screen.resize(vertices);  // grown only
+        projected.inside.resize(list.size());
+        // One loop per face, with the face's axes known at compile time: the clip coordinates
+        // come straight from the frame's arrays, not through an array indexed at run time.
+        switch (k) {
+            case 0:
+                return project_face<0>(seen, w, h, projected);
+            case 1:
+                return project_face<1>(seen, w, h, projected);
+            case 2:
+                return project_face<2>(seen, w, h, projected);
+            case 3:
+                return project_face<3>(seen, w, h, projected);
+            default:
+                return project_face<4>(seen, w, h, projected);
+        }
+    }
+
+    template <std::size_t K>
+    void project_face(const detail::HemicubeView& seen, int w, int h,
+                      detail::FaceProjection& projected) const {
+        static constexpr detail::HemicubeFace face = detail::hemicube_faces[K];
+        const std::vector<std::uint32_t>& list = seen.patches[K];
+        const double* const x_axis = seen.axis[face.x_axis].data();
+        const double* const w_axis = seen.axis[face.w_axis].data();
+        const double* const v_axis = seen.axis[1].data();
+        const double* const n_axis = seen.axis[2].data();
+        const double extent = std::max(w, h);
+        static constexpr glm::dvec3 unused{1, 0, 0};  // barycentric weights: not needed
+        detail::ScreenVertex* s = projected.screen.data();
+        for (std::size_t n = 0; n < list.size(); ++n) {
+            bool inside = true;
+            for (std::uint32_t v = first_[list[n]]; v < first_[list[n] + 1]; ++v) {
+                // face_clip's coordinates, term for term
+                const double x = face.x_sign * x_axis[v], depth = face.w_sign * w_axis[v];
+                const Vec4 p{x, face.side ? 2.0 * n_axis[v] - depth : v_axis[v], A_ * depth + B_,
+                             depth};
+                const bool in = detail::inside_guard_band(p, extent);
+                inside = inside && in;
+                // A vertex outside is not projected (w may be 0): its patch will be clipped.
+                *s++ = detail::to_screen(in ? p : Vec4(0, 0, 0, 1), unused, w, h);
+            }
+            projected.inside[n] = inside ? 1 : 0;
+        }
     }
 
     /// The delta form factors of each pixel (the equations above), computed once.
@@ -368,10 +439,19 @@ class Hemicube {
         }
     }
 
-    /// Projects patch j onto one face of the hemicube and draws it into the z-buffer.
+    /// Draws patch j into the z-buffer of one face, from its projected vertices s when all lie
+    /// inside the guard band (the usual case: each vertex was projected once for the whole fan,
+    /// exactly as rasterize_depth would project it per triangle), else clipped.
     void draw(std::uint32_t j, const detail::HemicubeView& seen, const detail::HemicubeFace& face,
-              int w, int h, std::vector<std::int32_t>& id, std::vector<double>& depth) const {
+              const detail::ScreenVertex* s, bool inside, int w, int h,
+              std::vector<std::int32_t>& id, std::vector<double>& depth) const {
         const std::uint32_t first = first_[j], count = first_[j + 1] - first;
+        const detail::NearestItems items{depth.data(), id.data(), w, static_cast<std::int32_t>(j)};
+        if (inside) {
+            for (std::uint32_t k = 1; k + 1 < count; ++k)
+                detail::draw_nearest(s[0], s[k], s[k + 1], w, h, items);
+            return;
+        }
         std::array<Vec4, 16> clip;
         std::vector<Vec4> big;
         Vec4* p = count <= clip.size() ? clip.data() : (big.resize(count), big.data());
@@ -379,41 +459,8 @@ class Hemicube {
             p[k] = detail::face_clip(
                 face, {seen.axis[0][first + k], seen.axis[1][first + k], seen.axis[2][first + k]},
                 A_, B_);
-        const auto index = static_cast<std::int32_t>(j);
-        // Captures by value, not by reference: the compiler cannot tell that the stores below
-        // leave referenced values alone, and would load them again and again.
-        auto span = [zbuffer = depth.data(), items = id.data(), w, index](const DepthSpan& s) {
-            const std::int32_t who = index;
-            const double z0 = s.z0, dzdx = s.dzdx;
-            const auto row = static_cast<std::size_t>(s.y * w);
-            double* const d = zbuffer + row;
-            std::int32_t* const item = items + row;
-            double x = s.begin;  // pixel column as a double: no conversion per pixel
-            for (int px = s.begin; px < s.end; ++px, x += 1.0) {
-                const double z = z0 + dzdx * x;
-                if (z < d[px]) {
-                    d[px] = z;
-                    item[px] = who;
-                }
-            }
-        };
-        // The usual case, a polygon in front of the near plane and inside the guard band:
-        // project each vertex once for the whole fan (a quad's two triangles share two
-        // vertices), exactly as rasterize_depth would project it per triangle.
-        const double extent = std::max(w, h);
-        bool inside = count <= clip.size();
-        for (std::uint32_t k = 0; inside && k < count; ++k)
-            inside = detail::inside_guard_band(p[k], extent);
-        if (inside) {
-            static constexpr glm::dvec3 unused{1, 0, 0};  // barycentric weights: not needed
-            std::array<detail::ScreenVertex, 16> s;
-            for (std::uint32_t k = 0; k < count; ++k) s[k] = detail::to_screen(p[k], unused, w, h);
-            for (std::uint32_t k = 1; k + 1 < count; ++k)
-                detail::draw_depth(s[0], s[k], s[k + 1], w, h, span);
-            return;
-        }
         for (std::uint32_t k = 1; k + 1 < count; ++k)
-            rasterize_depth({p[0], p[k], p[k + 1]}, w, h, span);
+            rasterize_depth({p[0], p[k], p[k + 1]}, w, h, items);
     }
 
     /// Adds the delta form factor of every pixel to the patch seen there. Neighbouring pixels
