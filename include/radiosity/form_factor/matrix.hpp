@@ -23,74 +23,16 @@
 #if defined(RADIOSITY_WITH_OPENMP)
 #include <omp.h>
 #endif
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
 
 namespace radiosity {
-
-namespace detail {
-/// The allocator of a dense matrix's hundreds of megabytes. Large blocks are aligned to 2 MiB
-/// and, on Linux, offered to the kernel as transparent huge pages (madvise), so the first touch
-/// of each 2 MiB costs one page fault instead of 512, and sweeps over the matrix miss the TLB
-/// less. Elements are default-initialised, i.e. left as they are, so that a matrix whose rows
-/// are all about to be written is not first cleared by one thread (a quarter of a second for
-/// 10,000 patches).
-template <class T>
-struct MatrixAllocator {
-    using value_type = T;
-    static constexpr std::size_t huge = std::size_t{1} << 21;  // 2 MiB
-
-    MatrixAllocator() = default;
-    template <class U>
-    MatrixAllocator(const MatrixAllocator<U>&) {}
-
-    T* allocate(std::size_t n) {
-        const std::size_t bytes = n * sizeof(T);
-        if (bytes < huge) return static_cast<T*>(::operator new(bytes));
-        void* p = ::operator new ((bytes + huge - 1) / huge * huge, std::align_val_t{huge});
-#if defined(__linux__) && defined(MADV_HUGEPAGE)
-        madvise(p, (bytes + huge - 1) / huge * huge, MADV_HUGEPAGE);  // a hint: may be refused
-#endif
-        return static_cast<T*>(p);
-    }
-    void deallocate(T* p, std::size_t n) {
-        if (n * sizeof(T) < huge)
-            ::operator delete(p);
-        else
-            ::operator delete (p, std::align_val_t{huge});
-    }
-    /// Default-initialises (no value: the caller writes every element it will read).
-    template <class U>
-    void construct(U* p) {
-        ::new (static_cast<void*>(p)) U;
-    }
-    template <class U, class... A>
-    void construct(U* p, A&&... a) {
-        ::new (static_cast<void*>(p)) U(std::forward<A>(a)...);
-    }
-    template <class U>
-    bool operator==(const MatrixAllocator<U>&) const {
-        return true;
-    }
-};
-}  // namespace detail
 
 /// Dense n x n form-factor matrix stored row-major in float (4 n^2 bytes).
 class DenseMatrix {
   public:
-    /// Marks the constructor that leaves the entries unset, for assembly that writes every row.
-    struct Unset {};
-
     DenseMatrix() = default;
     /// An n x n matrix of zeros. Throws Error (not std::bad_alloc) when it cannot be allocated,
     /// naming its size and what to do instead.
-    explicit DenseMatrix(std::size_t n) : DenseMatrix(n, Unset{}) {
-        std::fill(f_.begin(), f_.end(), 0.0f);
-    }
-    /// An n x n matrix whose entries are unset until written: each row must be written before
-    /// it is read. Throws as the other constructor.
-    DenseMatrix(std::size_t n, Unset) : n_(n) {
+    explicit DenseMatrix(std::size_t n) : n_(n) {
         const std::string advice =
             "; use fewer patches (a longer max edge) or the progressive "
             "solver, which needs no matrix";
@@ -98,7 +40,7 @@ class DenseMatrix {
             throw Error("form factors: " + std::to_string(n) +
                         " patches are too many for a dense matrix" + advice);
         try {
-            f_.resize(n * n);
+            f_.assign(n * n, 0.0f);
         } catch (const std::bad_alloc&) {
             throw Error("form factors: " + std::to_string(n) + " patches need a dense matrix of " +
                         std::to_string(double(n) * double(n) * sizeof(float) / double(1 << 30)) +
@@ -124,7 +66,7 @@ class DenseMatrix {
 
   private:
     std::size_t n_ = 0;
-    std::vector<float, detail::MatrixAllocator<float>> f_;
+    std::vector<float> f_;
 };
 
 /// An assembled matrix whose rows are stored as contiguous floats: `m.row(i)` views the n
@@ -212,8 +154,8 @@ void for_each_row(std::size_t n, const ProgressCallback& progress, Body&& body) 
 /// row i fills F_ij and F_ji for j > i, from the exchange A_i F_ij = A_j F_ji.
 template <FormFactorMethod M>
 DenseMatrix assemble_dense(const M& method, std::size_t n, const ProgressCallback& progress = {}) {
+    DenseMatrix F(n);
     if constexpr (ReciprocalFormFactor<M>) {
-        DenseMatrix F(n);
         detail::for_each_row(n, progress, [&](std::size_t i) {
             for (std::size_t j = i + 1; j < n; ++j) {
                 const double x = method.exchange(i, j);
@@ -221,17 +163,10 @@ DenseMatrix assemble_dense(const M& method, std::size_t n, const ProgressCallbac
                 F.row(j)[i] = static_cast<float>(x / method.area(j));
             }
         });
-        return F;
     } else {
-        // Rows are cleared by the threads that write them: in parallel, where the first touch
-        // of the pages costs most, and while the row is in the cache.
-        DenseMatrix F(n, DenseMatrix::Unset{});
-        detail::for_each_row(n, progress, [&](std::size_t i) {
-            std::ranges::fill(F.row(i), 0.0f);
-            method.row(i, F.row(i));
-        });
-        return F;
+        detail::for_each_row(n, progress, [&](std::size_t i) { method.row(i, F.row(i)); });
     }
+    return F;
 }
 
 /// Assembles sparse rows keeping the entries F_ij > threshold. Memory: only what is kept, plus
