@@ -31,9 +31,9 @@ const PatchTable& room(int k) {
     return it->second;
 }
 
+/// Times rows of the method over the patches, from all over the scene.
 template <class Method>
-void rows(benchmark::State& state, Method method, int k) {
-    const PatchTable& t = room(k);
+void rows_of(benchmark::State& state, Method method, const PatchTable& t) {
     method.prepare(t);
     std::vector<float> out(t.size());
     std::size_t i = 0;
@@ -44,6 +44,11 @@ void rows(benchmark::State& state, Method method, int k) {
     }
     state.SetItemsProcessed(state.iterations());
     state.counters["patches"] = static_cast<double>(t.size());
+}
+
+template <class Method>
+void rows(benchmark::State& state, Method method, int k) {
+    rows_of(state, method, room(k));
 }
 
 void analytic_rows(benchmark::State& state) {
@@ -69,17 +74,7 @@ void hemicube_room3(benchmark::State& state) {
     }
     static const PatchTable t =
         make_patch_table(subdivide(build_mesh(read_rrv<Rgb>(path)), {.max_area = 1.0}));
-    Hemicube method;
-    method.prepare(t);
-    std::vector<float> out(t.size());
-    std::size_t i = 0;
-    for (auto _ : state) {
-        method.row(i, out);
-        benchmark::DoNotOptimize(out.data());
-        i = (i + 97) % t.size();
-    }
-    state.SetItemsProcessed(state.iterations());
-    state.counters["patches"] = static_cast<double>(t.size());
+    rows_of(state, Hemicube(), t);
 }
 
 // k = 12, 24, 46, 92 give about 1.1k, 4.3k, 16k and 63k patches.

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 
 namespace radiosity {
 
@@ -481,20 +482,34 @@ struct DepthSpan {
 
 namespace detail {
 
+/// The plane of z/w over the screen, z/w = z0 + dzdx x + dzdy y at the centre of pixel (x, y)
+/// (z/w is linear in screen space).
+struct DepthPlane {
+    double z0, dzdx, dzdy;
+};
+
+/// The depth plane through three screen vertices: z = v0.z + dzdx (x - v0.x) + dzdy (y - v0.y),
+/// solved from the other two; nothing for a triangle seen edge-on (or not finite).
+inline std::optional<DepthPlane> depth_plane(const ScreenVertex& v0, const ScreenVertex& v1,
+                                             const ScreenVertex& v2) {
+    const double x1 = v1.x - v0.x, y1 = v1.y - v0.y, z1 = v1.z - v0.z;
+    const double x2 = v2.x - v0.x, y2 = v2.y - v0.y, z2 = v2.z - v0.z;
+    const double det = x1 * y2 - x2 * y1;
+    if (det == 0.0 || !std::isfinite(det)) return std::nullopt;
+    const double inv_det = 1.0 / det;
+    const double dzdx = (z1 * y2 - z2 * y1) * inv_det, dzdy = (z2 * x1 - z1 * x2) * inv_det;
+    return DepthPlane{v0.z + dzdx * (0.5 - v0.x) + dzdy * (0.5 - v0.y), dzdx, dzdy};
+}
+
 /// Draws one screen-space triangle for a z-buffer: calls visit(DepthSpan) for every row's run
 /// of covered pixels, with z/w from the plane through the three vertices. Split from
 /// rasterize_depth so that a caller drawing a polygon's fan can project each vertex once.
 template <class Visit>
 void draw_depth(const ScreenVertex& v0, const ScreenVertex& v1, const ScreenVertex& v2, int width,
                 int height, Visit&& visit) {
-    // z = v0.z + dzdx (x - v0.x) + dzdy (y - v0.y), solved from the other two vertices.
-    const double x1 = v1.x - v0.x, y1 = v1.y - v0.y, z1 = v1.z - v0.z;
-    const double x2 = v2.x - v0.x, y2 = v2.y - v0.y, z2 = v2.z - v0.z;
-    const double det = x1 * y2 - x2 * y1;
-    if (det == 0.0 || !std::isfinite(det)) return;
-    const double inv_det = 1.0 / det;
-    const double dzdx = (z1 * y2 - z2 * y1) * inv_det, dzdy = (z2 * x1 - z1 * x2) * inv_det;
-    const double z0 = v0.z + dzdx * (0.5 - v0.x) + dzdy * (0.5 - v0.y);  // at pixel (0, 0)
+    const std::optional<DepthPlane> plane = depth_plane(v0, v1, v2);
+    if (!plane) return;
+    const double z0 = plane->z0, dzdx = plane->dzdx, dzdy = plane->dzdy;
     // The plane by value: the caller's stores to its depth buffer cannot touch copies.
     scan_triangle(v0, v1, v2, width, height, [&visit, z0, dzdx, dzdy](int y, int begin, int end) {
         visit(DepthSpan{y, begin, end, z0 + dzdy * y, dzdx});
@@ -534,13 +549,9 @@ struct NearestItems {
 /// branches that find and draw them mispredict more often than not.
 inline void draw_nearest(const ScreenVertex& v0, const ScreenVertex& v1, const ScreenVertex& v2,
                          int width, int height, NearestItems items) {
-    const double x1 = v1.x - v0.x, y1 = v1.y - v0.y, z1 = v1.z - v0.z;
-    const double x2 = v2.x - v0.x, y2 = v2.y - v0.y, z2 = v2.z - v0.z;
-    const double det = x1 * y2 - x2 * y1;
-    if (det == 0.0 || !std::isfinite(det)) return;
-    const double inv_det = 1.0 / det;
-    const double dzdx = (z1 * y2 - z2 * y1) * inv_det, dzdy = (z2 * x1 - z1 * x2) * inv_det;
-    const double z0 = v0.z + dzdx * (0.5 - v0.x) + dzdy * (0.5 - v0.y);  // at pixel (0, 0)
+    const std::optional<DepthPlane> plane = depth_plane(v0, v1, v2);
+    if (!plane) return;
+    const double z0 = plane->z0, dzdx = plane->dzdx, dzdy = plane->dzdy;
     auto span = [items, z0, dzdx, dzdy](int y, int begin, int end) {
         items(DepthSpan{y, begin, end, z0 + dzdy * y, dzdx});
     };

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <array>
+#include <optional>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
@@ -126,28 +127,24 @@ template <std::size_t K, AssembledMatrix Mx, class Value>
 double max_over_rows(const Mx& F, const std::vector<double>& B, Value&& value) {
     const std::size_t n = F.size();
     const auto count = static_cast<std::int64_t>(n);
+    // Dense rows gather over a band-major copy of B; other matrices entry by entry.
+    std::optional<BandMajor<K>> band_major;
+    if constexpr (DenseRowMatrix<Mx>) band_major.emplace(B);
+    auto gather_row = [&](std::size_t i, double* acc) {
+        if constexpr (DenseRowMatrix<Mx>)
+            dense_dot<K>(F.row(i).data(), band_major->data(), band_major->stride(), 0, n, acc);
+        else
+            gather<K>(F, i, B, acc);
+    };
     double worst = 0.0;
-    if constexpr (DenseRowMatrix<Mx>) {
-        const BandMajor<K> b(B);
 #if defined(RADIOSITY_WITH_OPENMP)
 #pragma omp parallel for schedule(static) reduction(max : worst) if (worth_threads(n, K))
 #endif
-        for (std::int64_t s = 0; s < count; ++s) {
-            const auto i = static_cast<std::size_t>(s);
-            std::array<double, K> acc;
-            dense_dot<K>(F.row(i).data(), b.data(), b.stride(), 0, n, acc.data());
-            worst = std::max(worst, value(i, acc.data()));
-        }
-    } else {
-#if defined(RADIOSITY_WITH_OPENMP)
-#pragma omp parallel for schedule(static) reduction(max : worst) if (worth_threads(n, K))
-#endif
-        for (std::int64_t s = 0; s < count; ++s) {
-            const auto i = static_cast<std::size_t>(s);
-            std::array<double, K> acc;
-            gather<K>(F, i, B, acc.data());
-            worst = std::max(worst, value(i, acc.data()));
-        }
+    for (std::int64_t s = 0; s < count; ++s) {
+        const auto i = static_cast<std::size_t>(s);
+        std::array<double, K> acc;
+        gather_row(i, acc.data());
+        worst = std::max(worst, value(i, acc.data()));
     }
     return worst;
 }
