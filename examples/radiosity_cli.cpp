@@ -30,7 +30,8 @@ struct Args {
     std::string form_factor = "hemicube";
     std::string solver = "gauss-seidel";
     double max_edge = -1.0;  // negative: choose from the scene size (unless max_area is set)
-    double max_area = 0.0;   // > 0: RRV's `divide` rule
+    double max_area = 0.0;   // > 0: RRV's `divide` rule, neighbours split alike
+    double divide = 0.0;     // > 0: RRV's `divide` rule, each face by itself (T-junctions)
     double tolerance = 1e-4;
     std::string image;
     int width = 512, height = 512;
@@ -257,10 +258,12 @@ int run(const Args& a) {
     radiosity::SolveOptions o;
     o.form_factor = radiosity::parse_form_factor_kind(a.form_factor);
     o.solver = radiosity::parse_solver_kind(a.solver);
-    o.subdivision.max_edge = a.max_edge >= 0.0  ? a.max_edge
-                             : a.max_area > 0.0 ? 0.0
-                                                : scene_diagonal(scene) / 30.0;
-    o.subdivision.max_area = a.max_area;
+    const bool by_area = a.max_area > 0.0 || a.divide > 0.0;
+    o.subdivision.max_edge = a.max_edge >= 0.0 ? a.max_edge
+                             : by_area         ? 0.0
+                                               : scene_diagonal(scene) / 30.0;
+    o.subdivision.max_area = a.divide > 0.0 ? a.divide : a.max_area;
+    o.subdivision.conforming = !(a.divide > 0.0);
     o.tolerance = a.tolerance;
     if (a.resolution > 0) o.hemicube.resolution = a.resolution;
     if (a.samples > 0) o.ray_cast.samples = a.samples;
@@ -375,11 +378,18 @@ int main(int argc, char** argv) {
                    "subdivide patches to this edge length in scene units (0 keeps the input "
                    "faces; default: 1/30 of the scene's bounding-box diagonal)")
         ->check(CLI::NonNegativeNumber);
-    app.add_option("--max-area,--divide", a.max_area,
-                   "subdivide patches until none is larger than this area, each split 1->4 at "
-                   "its edge midpoints as RRV's `divide` does (then --max-edge defaults to no "
-                   "limit); neighbours are split alike, so there are no T-junctions")
-        ->check(CLI::PositiveNumber);
+    auto* max_area =
+        app.add_option("--max-area", a.max_area,
+                       "subdivide patches until none is larger than this area, each split 1->4 "
+                       "at its edge midpoints as RRV's `divide` does, and neighbours split alike "
+                       "(no T-junctions); --max-edge then defaults to no limit")
+            ->check(CLI::PositiveNumber);
+    app.add_option("--divide", a.divide,
+                   "subdivide exactly as RRV's `divide`: each face split 1->4 by itself until "
+                   "none is larger than this area, leaving T-junctions where neighbours differ "
+                   "(RRV's patches, to compare with its results)")
+        ->check(CLI::PositiveNumber)
+        ->excludes(max_area);
     app.add_option("--tolerance", a.tolerance, "relative residual at which the solver stops")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();

@@ -192,7 +192,7 @@ TEST_CASE("bad camera and image options are refused, naming the option") {
     CHECK(message(ok, {1, 1}) == "no error");
 }
 
-TEST_CASE("PNG: sRGB codes of a known picture, read back; a bad path is an error") {
+TEST_CASE("PNG: sRGB codes of a known picture, read back, and a bad path is an error") {
     Image img{2, 1, {glm::vec3(0.5f), glm::vec3(0.0f, 0.2f, 1.0f)}};
     const auto path = std::filesystem::temp_directory_path() /
                       ("radiosity_png_test_" + std::to_string(::getpid()) + ".png");

@@ -122,6 +122,21 @@ TEST_CASE("two-square OBJ: the dumped radiosities solve the two-patch system exa
     }
 }
 
+TEST_CASE("--divide and --max-area split by area, and only one of them is taken") {
+    for (const std::string rule : {"--divide", "--max-area"}) {
+        CAPTURE(rule);
+        // Squares of area 1: one round of 1 -> 4 splits brings them to 0.25 <= 0.3.
+        const Run r = run("'" + data("cli_two_squares.obj") + "' " + rule +
+                          " 0.3 --quiet --dump-patches '" + out("divided.csv") + "'");
+        REQUIRE_MESSAGE(r.status == 0, r.err);
+        const auto P = read_csv(out("divided.csv"), true);
+        REQUIRE(P.size() == 8);
+        for (const auto& p : P) CHECK(p[1] == doctest::Approx(0.25));
+    }
+    check_one_line_error("'" + data("cli_two_squares.obj") + "' --divide 1 --max-area 1",
+                         "max-area");
+}
+
 TEST_CASE("a missing scene file is a one-line error naming it") {
     check_one_line_error("'" + out("no_such_scene.obj") + "'", "no_such_scene.obj");
 }

@@ -157,6 +157,30 @@ TEST_CASE("max_area: RRV's rule of 1 -> 4 splits at edge midpoints until small e
     CHECK_THROWS_AS(subdivide(cube, o), Error);
 }
 
+TEST_CASE("max_area without conforming: each face split by itself, as RRV does") {
+    Scene<float> s;  // triangles of area 0.5 and 2.5 sharing the edge (1, 0) - (0, 1)
+    s.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {3, 3, 0}};
+    s.faces = {{0, 1, 2}, {1, 3, 2}};
+    s.face_material = {0, 0};
+    s.materials = {{0.0f, 0.5f, "grey"}};
+    const auto mesh = build_mesh(s);
+    SubdivisionOptions o;
+    o.max_area = 0.6;  // the small one stays whole, the large one needs 2 rounds: 16 children
+    o.conforming = false;
+    const auto alone = subdivide(mesh, o);
+    CHECK(alone.n_faces() == 1 + 16);
+    CHECK(subdivided_face_count(mesh, o) == alone.n_faces());
+    CHECK(total_area(alone) == doctest::Approx(3.0).epsilon(1e-12));
+    CHECK(largest_area(alone) <= 0.6);
+    // The shared edge is a T-junction: one edge on the small side, four on the large side, none
+    // of them shared; the outer edges are 2 + 8.
+    CHECK(boundary_edges(alone) == 2 + 8 + 1 + 4);
+    o.conforming = true;  // the small one is split along with its neighbour
+    const auto joined = subdivide(mesh, o);
+    CHECK(joined.n_faces() == 16 + 16);
+    CHECK(boundary_edges(joined) == 8 + 8);
+}
+
 TEST_CASE("max_edge 0 keeps the mesh, bad values and explosions are refused") {
     const auto mesh = build_mesh(separate_cube());
     CHECK(subdivide(mesh, {0.0}).n_faces() == 6);

@@ -12,12 +12,14 @@
 #include <radiosity/mesh/weld.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <initializer_list>
 #include <limits>
 #include <map>
 #include <numeric>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -28,6 +30,8 @@ struct SubdivisionOptions {
     double max_edge = 0.0;  ///< longest edge allowed; 0: no limit
     double max_area = 0.0;  ///< largest patch area allowed (RRV's `divide`); 0: no limit
     std::size_t max_faces = 4'000'000;  ///< refuse to make more patches than this
+    bool conforming = true;  ///< split neighbours alike along shared edges (no T-junctions);
+                             ///< false: each face by itself, as RRV does (T-junctions)
 };
 
 namespace detail {
@@ -82,7 +86,8 @@ Welded weld(const M& mesh) {
 struct EdgeSplits {
     std::map<std::pair<std::uint32_t, std::uint32_t>, std::size_t> id;  // (lo, hi) -> edge
     std::vector<std::vector<std::size_t>> face_edges;  // edge k of face f joins corners k, k+1
-    std::vector<std::size_t> segments;                 // per edge
+    std::vector<std::size_t> segments;                 // per edge (conforming)
+    std::vector<std::array<std::size_t, 2>> grid;      // per face: k1 x k2 (a triangle: k x k)
 };
 
 /// Segments per side that RRV's area rule gives a face of this area: m rounds of 1 -> 4 splits at
@@ -106,6 +111,24 @@ inline double polygon_area(const Welded& w, std::size_t f) {
     return a;
 }
 
+/// The grids of faces split each by itself (RRV's way): a triangle k x k with k the most that
+/// its edges' lengths or its area ask for, a quad k1 x k2 from its two pairs of opposite sides.
+/// Neighbours that differ meet in T-junctions.
+inline EdgeSplits split_faces_alone(EdgeSplits e, const std::vector<std::size_t>& need,
+                                    const std::vector<std::size_t>& by_area) {
+    for (std::size_t f = 0; f < e.face_edges.size(); ++f) {
+        const auto& ids = e.face_edges[f];
+        if (ids.size() == 4) {
+            e.grid.push_back({std::max({need[ids[0]], need[ids[2]], by_area[f]}),
+                              std::max({need[ids[1]], need[ids[3]], by_area[f]})});
+        } else {
+            const std::size_t k = std::max({need[ids[0]], need[ids[1]], need[ids[2]], by_area[f]});
+            e.grid.push_back({k, k});
+        }
+    }
+    return e;
+}
+
 inline EdgeSplits split_edges(const Welded& w, const SubdivisionOptions& options) {
     EdgeSplits e;
     std::vector<double> length;
@@ -125,11 +148,13 @@ inline EdgeSplits split_edges(const Welded& w, const SubdivisionOptions& options
         for (std::size_t k = 0; k < length.size(); ++k)
             need[k] = static_cast<std::size_t>(
                 std::max(1.0, std::ceil(length[k] / options.max_edge - 1e-9)));
+    std::vector<std::size_t> by_area(w.face.size(), 1);
     if (options.max_area > 0.0)
-        for (std::size_t f = 0; f < w.face.size(); ++f) {
-            const std::size_t k = area_segments(polygon_area(w, f), options.max_area);
-            for (std::size_t id : e.face_edges[f]) need[id] = std::max(need[id], k);
-        }
+        for (std::size_t f = 0; f < w.face.size(); ++f)
+            by_area[f] = area_segments(polygon_area(w, f), options.max_area);
+    if (!options.conforming) return split_faces_alone(std::move(e), need, by_area);
+    for (std::size_t f = 0; f < w.face.size(); ++f)
+        for (std::size_t id : e.face_edges[f]) need[id] = std::max(need[id], by_area[f]);
     DisjointSets classes(length.size());
     // The most any edge of a class needs, at the class's representative.
     auto class_needs = [&] {
@@ -165,6 +190,8 @@ inline EdgeSplits split_edges(const Welded& w, const SubdivisionOptions& options
     need = class_needs();
     e.segments.resize(length.size());
     for (std::size_t k = 0; k < length.size(); ++k) e.segments[k] = need[classes.find(k)];
+    for (const auto& ids : e.face_edges)
+        e.grid.push_back({e.segments[ids[0]], e.segments[ids[ids.size() == 4 ? 1 : 0]]});
     return e;
 }
 
@@ -224,8 +251,10 @@ class SubdivisionBuilder {
             std::swap(a, b);
             t = k - t;
         }
-        const std::size_t edge = e_.id.at({a, b});
-        auto [it, fresh] = on_edge_.try_emplace({edge, t});
+        // Keyed by the point's fraction t / k in lowest terms: faces that cut the edge into
+        // different numbers of segments (without conforming) still share the points in common.
+        const std::size_t edge = e_.id.at({a, b}), g = std::gcd(t, k);
+        auto [it, fresh] = on_edge_.try_emplace({edge, t / g, k / g});
         if (fresh) {
             const double s = static_cast<double>(t) / static_cast<double>(k);
             it->second = add(w_.point[a] + s * (w_.point[b] - w_.point[a]));
@@ -263,8 +292,7 @@ class SubdivisionBuilder {
     /// the sides come from edge_point, so neighbours share them.
     void quad(std::size_t f) {
         const auto& v = w_.face[f];
-        const std::size_t k1 = e_.segments[e_.face_edges[f][0]];
-        const std::size_t k2 = e_.segments[e_.face_edges[f][1]];
+        const auto [k1, k2] = e_.grid[f];
         std::vector<VH> grid((k1 + 1) * (k2 + 1));
         auto at = [&](std::size_t a, std::size_t b) -> VH& { return grid[b * (k1 + 1) + a]; };
         for (std::size_t b = 0; b <= k2; ++b)
@@ -296,7 +324,7 @@ class SubdivisionBuilder {
     /// A triangle v0 v1 v2 as k^2 triangles: point (a, b) = v0 + a/k (v1 - v0) + b/k (v2 - v0).
     void triangle(std::size_t f) {
         const auto& v = w_.face[f];
-        const std::size_t k = e_.segments[e_.face_edges[f][0]];
+        const std::size_t k = e_.grid[f][0];
         std::vector<VH> row((k + 1) * (k + 2) / 2);
         auto at = [&](std::size_t a, std::size_t b) -> VH& {
             return row[b * (k + 1) - b * (b - 1) / 2 + a];  // rows of k+1, k, ..., 1 points
@@ -333,7 +361,7 @@ class SubdivisionBuilder {
     std::vector<std::size_t> parent_;                // input face of each output face
     std::vector<std::vector<glm::vec2>> uvs_;        // lightmap UVs of each output face
     std::vector<VH> corner_;
-    std::map<std::pair<std::size_t, std::size_t>, VH> on_edge_;
+    std::map<std::tuple<std::size_t, std::size_t, std::size_t>, VH> on_edge_;
 };
 
 }  // namespace detail
@@ -351,10 +379,8 @@ SubdivisionPlan plan_subdivision(const Mesh<S>& mesh, const SubdivisionOptions& 
     SubdivisionPlan plan{weld(mesh), {}, 0.0};
     plan.splits = split_edges(plan.welded, options);
     for (std::size_t f = 0; f < plan.welded.face.size(); ++f) {
-        const auto& ids = plan.splits.face_edges[f];
-        const auto& k = plan.splits.segments;
-        plan.faces += ids.size() == 4 ? double(k[ids[0]]) * double(k[ids[1]])
-                                      : double(k[ids[0]]) * double(k[ids[0]]);
+        const auto [k1, k2] = plan.splits.grid[f];
+        plan.faces += double(k1) * double(k2);
     }
     return plan;
 }
