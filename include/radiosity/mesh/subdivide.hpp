@@ -1,9 +1,11 @@
 #pragma once
-/// @file subdivide.hpp  Conforming subdivision of the patch mesh to a maximum edge length
-/// (Cohen & Wallace 1993, ch. 8: meshing). Every geometric edge is cut into the same number of
-/// segments for all faces that use it, so neighbouring patches share their vertices and there
-/// are no T-junctions (smooth shading then has no cracks). Quads become k1 x k2 grids of quads,
-/// triangles k^2 triangles, so children keep their parent's shape and no slivers appear.
+/// @file subdivide.hpp  Conforming subdivision of the patch mesh to a maximum edge length or
+/// patch area (Cohen & Wallace 1993, ch. 8: meshing). Every geometric edge is cut into the same
+/// number of segments for all faces that use it, so neighbouring patches share their vertices and
+/// there are no T-junctions (smooth shading then has no cracks). Quads become k1 x k2 grids of
+/// quads, triangles k^2 triangles, so children keep their parent's shape and no slivers appear.
+/// The area rule is RRV's `divide` (Dudka 2007): rounds of 1 -> 4 splits at edge midpoints; RRV
+/// applies it to each face by itself, which `conforming = false` reproduces, T-junctions and all.
 
 #include <radiosity/error.hpp>
 #include <radiosity/geometry/polygon.hpp>
@@ -407,8 +409,9 @@ std::size_t subdivided_face_count(const Mesh<S>& mesh, const SubdivisionOptions&
     return static_cast<std::size_t>(detail::plan_subdivision(mesh, options).faces);
 }
 
-/// Conforming subdivision (see the file comment): returns a new mesh whose edges are at most
-/// max_edge long and whose patches have at most max_area (by RRV's rule, area_segments), where
+/// Subdivision (see the file comment): returns a new mesh whose edges are at most max_edge long
+/// and whose patches have at most max_area (by RRV's rule, area_segments), conforming unless
+/// options.conforming is false (each face by itself: T-junctions where neighbours differ), where
 /// coincident input vertices (within 1e-9 of the scene's size) are merged first so that faces
 /// meeting along a geometric edge share the new vertices too. Children keep their parent's data
 /// (E, R, material, surface), orientation and, interpolated, lightmap UVs. With both limits 0 it
