@@ -1,11 +1,11 @@
 #pragma once
 /// @file dense_dot.hpp  The gather sum_j F_ij B_j over a stretch of a dense float row, for K
 /// bands at once, accumulated in double: SSE2 where the compiler targets it (every x86-64
-/// build), plain C++ otherwise. B is held
-/// band-major (all patches' band 0, then band 1, ...) so that consecutive j are consecutive
-/// doubles. Every path adds in the same fixed order (dense_dot), so the sums are bit-identical
-/// across paths and do not depend on which thread computes them. (Off x86-64, a compiler that
-/// fuses the plain path's multiply and add rounds differently, yet still alike on every thread.)
+/// build), plain C++ otherwise. B is held band-major (all patches' band 0, then band 1, ...) so
+/// that consecutive j are consecutive doubles. Every path adds in the same fixed order (dense_dot),
+/// so the sums are bit-identical across paths and do not depend on which thread computes them. (Off
+/// x86-64, a compiler that fuses the plain path's multiply and add rounds differently, yet still
+/// alike on every thread.)
 
 #include <algorithm>
 #include <cstddef>
