@@ -16,11 +16,10 @@ namespace {
 // Max edge lengths (mm) that give 1014, 3988 and 15290 patches on the Cornell box.
 constexpr double edge_1k = 48.0, edge_4k = 23.0, edge_16k = 11.5;
 
-void solve_cornell(benchmark::State& state, double max_edge, radiosity::FormFactorKind method) {
-    const auto scene = radiosity::build_mesh(radiosity::cornell_box<radiosity::Rgb>());
-    radiosity::SolveOptions options;
-    options.subdivision.max_edge = max_edge;
-    options.form_factor = method;
+/// Times radiosity::solve of the scene; reports the patches and the form factors' seconds.
+template <class Mesh>
+void time_solves(benchmark::State& state, const Mesh& scene,
+                 const radiosity::SolveOptions& options) {
     std::size_t patches = 0;
     double form_factor_seconds = 0.0;
     for (auto _ : state) {
@@ -31,6 +30,14 @@ void solve_cornell(benchmark::State& state, double max_edge, radiosity::FormFact
     }
     state.counters["patches"] = static_cast<double>(patches);
     state.counters["form_factor_s"] = form_factor_seconds;
+}
+
+void solve_cornell(benchmark::State& state, double max_edge, radiosity::FormFactorKind method) {
+    const auto scene = radiosity::build_mesh(radiosity::cornell_box<radiosity::Rgb>());
+    radiosity::SolveOptions options;
+    options.subdivision.max_edge = max_edge;
+    options.form_factor = method;
+    time_solves(state, scene, options);
 }
 
 void solve_room3(benchmark::State& state, bool conforming) {
@@ -44,16 +51,7 @@ void solve_room3(benchmark::State& state, bool conforming) {
     options.subdivision.max_area = 1.0;  // RRV's default divide
     options.subdivision.conforming = conforming;
     options.tolerance = 0.01;
-    std::size_t patches = 0;
-    double form_factor_seconds = 0.0;
-    for (auto _ : state) {
-        const auto result = radiosity::solve(scene, options);
-        patches = result.patches.size();
-        form_factor_seconds = result.form_factor_seconds;
-        benchmark::DoNotOptimize(result.report.residual);
-    }
-    state.counters["patches"] = static_cast<double>(patches);
-    state.counters["form_factor_s"] = form_factor_seconds;
+    time_solves(state, scene, options);
 }
 
 using radiosity::FormFactorKind;
