@@ -329,26 +329,21 @@ class Hemicube {
                       detail::FaceProjection& projected) const {
         static constexpr detail::HemicubeFace face = detail::hemicube_faces[K];
         const std::vector<std::uint32_t>& list = seen.patches[K];
-        const double* const x_axis = seen.axis[face.x_axis].data();
-        const double* const w_axis = seen.axis[face.w_axis].data();
-        const double* const v_axis = seen.axis[1].data();
-        const double* const n_axis = seen.axis[2].data();
+        const double *const u = seen.axis[0].data(), *const v = seen.axis[1].data(),
+                            *const n = seen.axis[2].data();
         const double extent = std::max(w, h);
         static constexpr glm::dvec3 unused{1, 0, 0};  // barycentric weights: not needed
         detail::ScreenVertex* s = projected.screen.data();
-        for (std::size_t n = 0; n < list.size(); ++n) {
+        for (std::size_t m = 0; m < list.size(); ++m) {
             bool inside = true;
-            for (std::uint32_t v = first_[list[n]]; v < first_[list[n] + 1]; ++v) {
-                // face_clip's coordinates, term for term
-                const double x = face.x_sign * x_axis[v], depth = face.w_sign * w_axis[v];
-                const Vec4 p{x, face.side ? 2.0 * n_axis[v] - depth : v_axis[v], A_ * depth + B_,
-                             depth};
+            for (std::uint32_t k = first_[list[m]]; k < first_[list[m] + 1]; ++k) {
+                const Vec4 p = detail::face_clip(face, {u[k], v[k], n[k]}, A_, B_);
                 const bool in = detail::inside_guard_band(p, extent);
                 inside = inside && in;
                 // A vertex outside is not projected (w may be 0): its patch will be clipped.
                 *s++ = detail::to_screen(in ? p : Vec4(0, 0, 0, 1), unused, w, h);
             }
-            projected.inside[n] = inside ? 1 : 0;
+            projected.inside[m] = inside ? 1 : 0;
         }
     }
 

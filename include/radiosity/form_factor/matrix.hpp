@@ -199,6 +199,15 @@ class SparseMatrix {
 static_assert(DenseRowMatrix<DenseMatrix> && !DenseRowMatrix<SparseMatrix>);
 
 namespace detail {
+/// This thread's index in its OpenMP team (0 outside a parallel region or without OpenMP).
+inline int thread_index() {
+#if defined(RADIOSITY_WITH_OPENMP)
+    return omp_get_thread_num();
+#else
+    return 0;
+#endif
+}
+
 /// Runs body(i) for every row i, in parallel with OpenMP when available, reporting progress from
 /// the first thread only (the callback need not be thread-safe) and stopping (by throwing
 /// Cancelled) when the callback asks to.
@@ -214,13 +223,8 @@ void for_each_row(std::size_t n, const ProgressCallback& progress, Body&& body) 
         if (cancel.load(std::memory_order_relaxed)) continue;
         body(static_cast<std::size_t>(i));
         const std::size_t d = ++done;
-#if defined(RADIOSITY_WITH_OPENMP)
-        const bool reporter = omp_get_thread_num() == 0;
-#else
-        const bool reporter = true;
-#endif
-        if (reporter && !detail::report(progress, "form factors",
-                                        static_cast<double>(d) / static_cast<double>(n)))
+        if (thread_index() == 0 && !detail::report(progress, "form factors",
+                                                   static_cast<double>(d) / static_cast<double>(n)))
             cancel = true;
     }
     if (cancel) throw Cancelled();

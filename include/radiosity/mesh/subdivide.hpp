@@ -21,6 +21,7 @@
 #include <limits>
 #include <map>
 #include <numeric>
+#include <span>
 #include <tuple>
 #include <utility>
 #include <vector>
@@ -82,13 +83,12 @@ Welded weld(const M& mesh) {
     return w;
 }
 
-/// Edge ids of the welded polygons, and the number of segments of each edge: the most any
-/// edge of its class needs, where a class joins the opposite sides of each quad and all sides
-/// of each triangle (so the grids fit).
+/// Edge ids of the welded polygons, and the grid each polygon is cut into. Conforming, an edge
+/// has as many segments as the most any edge of its class needs, where a class joins the
+/// opposite sides of each quad and all sides of each triangle (so the grids fit).
 struct EdgeSplits {
     std::map<std::pair<std::uint32_t, std::uint32_t>, std::size_t> id;  // (lo, hi) -> edge
     std::vector<std::vector<std::size_t>> face_edges;  // edge k of face f joins corners k, k+1
-    std::vector<std::size_t> segments;                 // per edge (conforming)
     std::vector<std::array<std::size_t, 2>> grid;      // per face: k1 x k2 (a triangle: k x k)
 };
 
@@ -103,14 +103,11 @@ inline std::size_t area_segments(double area, double max_area) {
     return k;
 }
 
-/// Area of welded polygon f (convex, so a fan of triangles).
-inline double polygon_area(const Welded& w, std::size_t f) {
-    const auto& c = w.face[f];
-    double a = 0.0;
-    for (std::size_t k = 1; k + 1 < c.size(); ++k)
-        a += 0.5 * glm::length(glm::cross(w.point[c[k]] - w.point[c[0]],
-                                          w.point[c[k + 1]] - w.point[c[0]]));
-    return a;
+/// Area of welded polygon f (3 or 4 corners).
+inline double face_area(const Welded& w, std::size_t f) {
+    std::array<Vec3, 4> p;
+    for (std::size_t k = 0; k < w.face[f].size(); ++k) p[k] = w.point[w.face[f][k]];
+    return polygon_area(std::span<const Vec3>(p.data(), w.face[f].size()));
 }
 
 /// The grids of faces split each by itself (RRV's way): a triangle k x k with k the most that
@@ -153,7 +150,7 @@ inline EdgeSplits split_edges(const Welded& w, const SubdivisionOptions& options
     std::vector<std::size_t> by_area(w.face.size(), 1);
     if (options.max_area > 0.0)
         for (std::size_t f = 0; f < w.face.size(); ++f)
-            by_area[f] = area_segments(polygon_area(w, f), options.max_area);
+            by_area[f] = area_segments(face_area(w, f), options.max_area);
     if (!options.conforming) return split_faces_alone(std::move(e), need, by_area);
     for (std::size_t f = 0; f < w.face.size(); ++f)
         for (std::size_t id : e.face_edges[f]) need[id] = std::max(need[id], by_area[f]);
@@ -189,11 +186,10 @@ inline EdgeSplits split_edges(const Welded& w, const SubdivisionOptions& options
             joined[f] = changed = true;
         }
     }
-    need = class_needs();
-    e.segments.resize(length.size());
-    for (std::size_t k = 0; k < length.size(); ++k) e.segments[k] = need[classes.find(k)];
+    const std::vector<std::size_t> most = class_needs();  // segments of every edge of a class
     for (const auto& ids : e.face_edges)
-        e.grid.push_back({e.segments[ids[0]], e.segments[ids[ids.size() == 4 ? 1 : 0]]});
+        e.grid.push_back(
+            {most[classes.find(ids[0])], most[classes.find(ids[ids.size() == 4 ? 1 : 0])]});
     return e;
 }
 

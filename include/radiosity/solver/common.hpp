@@ -13,18 +13,15 @@
 
 #include <algorithm>
 #include <array>
-#include <optional>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
 
-#if defined(RADIOSITY_WITH_OPENMP)
-#include <omp.h>
-#endif
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
@@ -101,20 +98,6 @@ inline bool worth_threads(std::size_t n, std::size_t K) {
 inline void spin_pause() {
 #if defined(__SSE2__)
     _mm_pause();
-#endif
-}
-
-/// This thread's index in its OpenMP team and the team's size ({0, 1} outside a parallel region
-/// or without OpenMP).
-struct TeamPlace {
-    int thread;   ///< index of this thread, 0 .. threads - 1
-    int threads;  ///< threads in the team
-};
-inline TeamPlace thread_in_team() {
-#if defined(RADIOSITY_WITH_OPENMP)
-    return {omp_get_thread_num(), omp_get_num_threads()};
-#else
-    return {0, 1};
 #endif
 }
 

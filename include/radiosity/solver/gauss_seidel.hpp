@@ -65,6 +65,12 @@ class GaussSeidel {
     }
 
   private:
+    /// The Gauss-Seidel update of one band of patch i with the self term solved for:
+    /// B_i = (E_i + R_i sum_{j != i} F_ij B_j) / (1 - R_i F_ii), from gathered = sum_{j != i}.
+    static double updated(double E, double R, double gathered, double self) {
+        return (E + R * gathered) / (1.0 - R * self);
+    }
+
     /// One sweep in patch order, in place; returns the largest change.
     template <std::size_t K, AssembledMatrix Mx>
     static double sweep(const Mx& F, const std::vector<double>& E, const std::vector<double>& R,
@@ -85,7 +91,7 @@ class GaussSeidel {
             });
             for (std::size_t k = 0; k < K; ++k) {
                 const std::size_t ik = i * K + k;
-                const double b = (E[ik] + R[ik] * acc[k]) / (1.0 - R[ik] * self);
+                const double b = updated(E[ik], R[ik], acc[k], self);
                 change = std::max(change, std::abs(b - B[ik]));
                 B[ik] = b;
             }
@@ -133,7 +139,7 @@ class GaussSeidel {
                 collect_gather<K>(F, mine, r0, r1, shared, outside, sums);
                 my_change = std::max(my_change, sweep_block<K>(F, E, R, mine, r0, r1, sums));
             }
-            if (detail::thread_in_team().thread == 0) {  // every thread holds the same B
+            if (detail::thread_index() == 0) {  // every thread holds the same B
                 result.emplace(std::move(mine));
                 change = my_change;
             }
@@ -216,8 +222,7 @@ class GaussSeidel {
             const double self = row[i];  // F_ii
             for (std::size_t k = 0; k < K; ++k) {
                 const std::size_t ik = i * K + k;
-                const double acc = sums[(i - r0) * K + k] + inside[k];
-                const double b = (E[ik] + R[ik] * acc) / (1.0 - R[ik] * self);
+                const double b = updated(E[ik], R[ik], sums[(i - r0) * K + k] + inside[k], self);
                 change = std::max(change, std::abs(b - old[k]));
                 B.at(k, i) = b;
             }
