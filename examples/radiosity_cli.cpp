@@ -258,7 +258,8 @@ int run(const Args& a) {
     radiosity::SolveOptions o;
     o.form_factor = radiosity::parse_form_factor_kind(a.form_factor);
     o.solver = radiosity::parse_solver_kind(a.solver);
-    const bool by_area = a.max_area > 0.0 || a.divide > 0.0;
+    // Without --max-edge: none where the area rule or a lightmap's texels size the patches.
+    const bool by_area = a.max_area > 0.0 || a.divide > 0.0 || !a.lightmap.empty();
     o.subdivision.max_edge = a.max_edge >= 0.0 ? a.max_edge
                              : by_area         ? 0.0
                                                : scene_diagonal(scene) / 30.0;
@@ -275,9 +276,8 @@ int run(const Args& a) {
     std::optional<radiosity::BakeResult<Colour>> baked;
     try {
         if (!a.lightmap.empty()) {  // patches follow the texels unless --max-edge says finer
-            o.subdivision.max_edge = std::max(a.max_edge, 0.0);
             baked = radiosity::bake(scene, o, lightmap_options(a));
-            result = baked->solution;
+            result = std::move(baked->solution);
         } else {
             result = radiosity::solve(scene, o);
         }

@@ -128,8 +128,10 @@ TEST_CASE("subdivision interpolates the UVs: an affine UV map stays exact on eve
     // Smooth shading keeps them, one per output vertex.
     const ShadedMesh shaded = smooth_shading(fine);
     REQUIRE(shaded.uvs.size() == shaded.positions.size());
-    for (std::size_t v = 0; v < shaded.uvs.size(); ++v)
+    for (std::size_t v = 0; v < shaded.uvs.size(); ++v) {
         CHECK(shaded.uvs[v].x == doctest::Approx(affine_uv(shaded.positions[v]).x).epsilon(1e-6));
+        CHECK(shaded.uvs[v].y == doctest::Approx(affine_uv(shaded.positions[v]).y).epsilon(1e-6));
+    }
 }
 
 TEST_CASE("OBJ texture coordinates become lightmap UVs, v flipped to rows from the top") {
@@ -143,8 +145,13 @@ TEST_CASE("OBJ texture coordinates become lightmap UVs, v flipped to rows from t
     REQUIRE(has_corner_uvs(mesh));
     const auto uv = corner_uvs(mesh, *mesh.faces().begin());
     const auto poly = face_polygon(mesh, *mesh.faces().begin());
+    std::size_t corners = 0;
     for (std::size_t k = 0; k < 4; ++k)
-        if (poly[k] == Vec3(0, 1, 0)) CHECK(uv[k] == glm::vec2(0.25f, 0.0f));
+        if (poly[k] == Vec3(0, 1, 0)) {
+            CHECK(uv[k] == glm::vec2(0.25f, 0.0f));
+            ++corners;
+        }
+    CHECK(corners == 1);
     // A file whose vt lie outside [0, 1] (a tiled texture) simply has no lightmap UVs.
     {
         std::ofstream o(path);

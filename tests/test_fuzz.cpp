@@ -31,6 +31,11 @@ std::string slurp(const fs::path& p) {
     return s.str();
 }
 
+/// A random index below n.
+std::size_t pick_below(Rng& rng, std::size_t n) {
+    return static_cast<std::size_t>(rng.uniform() * double(n));
+}
+
 /// One random mutation of a text: a byte changed, a line dropped, doubled or cut short, a
 /// number swapped for a hostile one, or a hostile line inserted.
 std::string mutate(std::string text, Rng& rng) {
@@ -59,7 +64,7 @@ std::string mutate(std::string text, Rng& rng) {
                                                   "Ke -5 0 0",
                                                   "Kd nan 0 0",
                                                   "f 1/2/3 4/5/6 7/8/9"};
-    auto pick = [&](std::size_t n) { return static_cast<std::size_t>(rng.uniform() * double(n)); };
+    auto pick = [&rng](std::size_t n) { return pick_below(rng, n); };
     if (text.empty()) return hostile[pick(hostile.size())];
     const std::size_t at = pick(text.size());
     switch (pick(6)) {
@@ -103,7 +108,7 @@ std::string mutate_json(std::string text, Rng& rng) {
                                                   "[]",         "{}",
                                                   "\"x\"",      "65536",
                                                   "1e18",       "true"};
-    auto pick = [&](std::size_t n) { return static_cast<std::size_t>(rng.uniform() * double(n)); };
+    auto pick = [&rng](std::size_t n) { return pick_below(rng, n); };
     if (rng.uniform() < 0.4) return mutate(std::move(text), rng);
     const std::size_t at = text.find_first_of("0123456789", pick(text.size()));
     if (at == std::string::npos) return text;
@@ -117,7 +122,7 @@ std::string mutate_json(std::string text, Rng& rng) {
 std::vector<std::uint8_t> mutate_bytes(std::vector<std::uint8_t> b, Rng& rng) {
     static const std::vector<std::uint32_t> words{
         0, 1, 2, 3, 0xFFFFFFFFu, 0x7FFFFFFFu, 12, 20, 0x4E4F534Au, 0x004E4942u, 0x7FC00000u};
-    auto pick = [&](std::size_t n) { return static_cast<std::size_t>(rng.uniform() * double(n)); };
+    auto pick = [&rng](std::size_t n) { return pick_below(rng, n); };
     if (b.empty()) return b;
     const std::size_t at = pick(b.size());
     switch (pick(3)) {

@@ -180,6 +180,7 @@ TEST_CASE("draw_nearest keeps the same nearest items and depths as draw_depth's 
     const int width = 40, height = 32;
     const auto pixels = std::size_t(width) * height;
     int differing = 0;
+    std::size_t drawn = 0;  // pixels holding an item: the test sees something drawn
     for (int scene = 0; scene < 50; ++scene) {
         std::vector<double> depth(pixels, 1e300), want_depth = depth;
         std::vector<std::int32_t> item(pixels, -1), want_item = item;
@@ -199,6 +200,9 @@ TEST_CASE("draw_nearest keeps the same nearest items and depths as draw_depth's 
             });
         }
         differing += depth == want_depth && item == want_item ? 0 : 1;
+        drawn += static_cast<std::size_t>(
+            std::count_if(item.begin(), item.end(), [](std::int32_t i) { return i >= 0; }));
     }
     CHECK(differing == 0);
+    CHECK(drawn > pixels * 50 / 4);
 }

@@ -85,7 +85,7 @@ TEST_CASE("bvh answers exactly as testing every triangle, on random rays in a cl
     // single-precision filter and double test): this checks the tree's traversal; the exact test
     // itself is checked against plain double arithmetic below.
     const PatchTable t = cluttered_room();
-    const Bvh bvh(t), brute(t, {16, 1 << 30, 1.0});
+    const Bvh bvh(t), brute(t, {16, 1 << 30});
     REQUIRE(brute.node_count() == 1);
     Rng rng(7);
     std::vector<Vec3> xs, ys;

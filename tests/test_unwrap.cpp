@@ -169,10 +169,6 @@ std::vector<UvFace> uv_faces(const M& mesh) {
     return out;
 }
 
-double cross2(const Vec2& a, const Vec2& b, const Vec2& c) {
-    return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-}
-
 /// Whether a face is planar: every corner within 1e-9 of its size from its Newell plane.
 bool planar(const std::vector<Vec3>& p) {
     const Vec3 n = polygon_normal(p);
@@ -208,7 +204,7 @@ AtlasStats check_atlas(const M& mesh, const Atlas& atlas, const UnwrapOptions& o
         for (const Vec2& t : f.uv)
             if (!(t.x >= 0.0 && t.x <= 1.0 && t.y >= 0.0 && t.y <= 1.0)) ++outside;
         for (std::size_t k = 1; k + 1 < f.uv.size(); ++k)
-            if (!(cross2(f.uv[0], f.uv[k], f.uv[k + 1]) > 0.0)) ++clockwise;
+            if (!(detail::signed_area2(f.uv[0], f.uv[k], f.uv[k + 1]) > 0.0)) ++clockwise;
         stats.coverage += polygon_area(f.point) * d * d / (double(W) * H);
     }
     CHECK(outside == 0);
@@ -230,7 +226,8 @@ AtlasStats check_atlas(const M& mesh, const Atlas& atlas, const UnwrapOptions& o
                 for (int x = x0; x <= x1; ++x) {
                     const Vec2 s(x + 0.5, y + 0.5);
                     const double e = 1e-9;  // on an edge is inside neither face
-                    if (cross2(a, b, s) > e && cross2(b, c, s) > e && cross2(c, a, s) > e) {
+                    if (detail::signed_area2(a, b, s) > e && detail::signed_area2(b, c, s) > e &&
+                        detail::signed_area2(c, a, s) > e) {
                         int& o = owner[std::size_t(y) * R + x];
                         if (o >= 0 && o != int(f)) ++shared;
                         o = int(f);
@@ -414,7 +411,7 @@ TEST_CASE("unwrap: a sphere is cut into charts that neither overlap nor fold") {
     const double scale = atlas.texel_density / atlas.width;
     std::size_t stretched = 0;
     for (const auto& f : faces) {
-        const double uv = 0.5 * cross2(f.uv[0], f.uv[1], f.uv[2]);
+        const double uv = 0.5 * detail::signed_area2(f.uv[0], f.uv[1], f.uv[2]);
         if (uv > polygon_area(f.point) * scale * scale * (1.0 + 1e-5)) ++stretched;
     }
     CHECK(stretched == 0);

@@ -338,10 +338,10 @@ class Bvh {
         nodes[index].box = box;
         nodes[index].first = first;
         nodes[index].count = count;  // a leaf unless split below
-        const Split s = best_split(first, count, centres);
-        if (count <= static_cast<std::uint32_t>(options_.max_leaf_size) || s.axis < 0 ||
-            depth >= 64)
-            return;
+        // Small enough for a leaf: no split to look for.
+        if (count <= static_cast<std::uint32_t>(options_.max_leaf_size) || depth >= 64) return;
+        const Split s = best_split(first, count, centres, box.half_area());
+        if (s.axis < 0) return;
         // SAH: splitting must beat testing every block here.
         if (!(s.cost < blocks(count)) && count <= 16) return;
         const auto mid = static_cast<std::uint32_t>(
@@ -412,14 +412,11 @@ class Bvh {
 
     /// Binned SAH (Wald 2007): sort centroids into bins along each axis, sweep the bins from
     /// both sides accumulating boxes and counts, and keep the cheapest plane.
-    Split best_split(std::uint32_t first, std::uint32_t count, const Box& centres) const {
+    /// parent_area is the half area of the node's box.
+    Split best_split(std::uint32_t first, std::uint32_t count, const Box& centres,
+                     double parent_area) const {
         Split best;
         const std::size_t nb = static_cast<std::size_t>(options_.bins);
-        const double parent_area = [&] {
-            Box b;
-            for (std::uint32_t k = first; k < first + count; ++k) b.grow(triangle_box(k));
-            return b.half_area();
-        }();
         if (!(parent_area > 0.0)) return best;
         for (int axis = 0; axis < 3; ++axis) {
             if (!(centres.hi[axis] > centres.lo[axis])) continue;

@@ -444,7 +444,7 @@ void project_triangle(const std::array<Vec4, 3>& clip, int width, int height, Pi
 /// 2^20): clips it to the near plane, divides by w, and calls visit(Fragment) for every pixel
 /// whose centre it covers (top-left rule on shared edges; vertices snapped to 1/256 pixel).
 /// Both windings are drawn; depth testing is the caller's (the camera keeps colours). Pixels
-/// outside the raster are skipped. Cost: O(pixels of the bounding box).
+/// outside the raster are skipped. Cost: O(rows + pixels drawn), O(box) for narrow boxes.
 template <class Visit>
 void rasterize_triangle(const std::array<Vec4, 3>& clip, int width, int height, Visit&& visit) {
     detail::project_triangle(
@@ -502,8 +502,8 @@ inline std::optional<DepthPlane> depth_plane(const ScreenVertex& v0, const Scree
 }
 
 /// Draws one screen-space triangle for a z-buffer: calls visit(DepthSpan) for every row's run
-/// of covered pixels, with z/w from the plane through the three vertices. Split from
-/// rasterize_depth so that a caller drawing a polygon's fan can project each vertex once.
+/// of covered pixels, with z/w from the plane through the three vertices: the run-based path of
+/// rasterize_depth, and the reference that draw_nearest must match.
 template <class Visit>
 void draw_depth(const ScreenVertex& v0, const ScreenVertex& v1, const ScreenVertex& v2, int width,
                 int height, Visit&& visit) {

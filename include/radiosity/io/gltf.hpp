@@ -96,7 +96,6 @@ inline nlohmann::json gltf_document(const ShadedMesh& mesh, double exposure_scal
                 colour.push_back(std::clamp(static_cast<float>(exposure_scale * mesh.colours[v][k]),
                                             0.0f, 1.0f));
         }
-    for (const glm::vec2& t : mesh.uvs) uv.insert(uv.end(), {t.x, t.y});
     std::vector<std::uint32_t> index;
     for (const auto& t : mesh.triangles) index.insert(index.end(), t.begin(), t.end());
     using nlohmann::json;
@@ -116,6 +115,7 @@ inline nlohmann::json gltf_document(const ShadedMesh& mesh, double exposure_scal
                 {"nodes", {{{"mesh", 0}}}}};
     if (lightmap_png) {
         if (mesh.uvs.size() != count) throw Error("glTF: the mesh has no lightmap UVs");
+        for (const glm::vec2& t : mesh.uvs) uv.insert(uv.end(), {t.x, t.y});
         attributes["TEXCOORD_0"] = attributes["TEXCOORD_1"] =
             b.accessor(uv, count, "VEC2", gltf::array_buffer);
         material["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}, {"texCoord", 0}};
@@ -184,8 +184,8 @@ inline void write_gltf_files(nlohmann::json doc, const std::vector<std::uint8_t>
 /// shows unlit vertex colours). Throws Error naming the path on failure.
 inline void write_gltf(const ShadedMesh& mesh, const std::string& path, double exposure_scale) {
     std::vector<std::uint8_t> bin;
-    const nlohmann::json doc = detail::gltf_document(mesh, exposure_scale, bin);
-    detail::write_gltf_files(doc, bin, path);
+    nlohmann::json doc = detail::gltf_document(mesh, exposure_scale, bin);
+    detail::write_gltf_files(std::move(doc), bin, path);
 }
 
 /// Writes the mesh as glTF 2.0 textured with its lightmap: the lightmap UVs as TEXCOORD_0 and
@@ -196,8 +196,8 @@ inline void write_gltf_lightmapped(const ShadedMesh& mesh, const Image& lightmap
                                    const std::string& path, double exposure_scale) {
     std::vector<std::uint8_t> bin;
     const std::vector<std::uint8_t> png = png_bytes(lightmap, exposure_scale);
-    const nlohmann::json doc = detail::gltf_document(mesh, 1.0, bin, &png);
-    detail::write_gltf_files(doc, bin, path);
+    nlohmann::json doc = detail::gltf_document(mesh, 1.0, bin, &png);
+    detail::write_gltf_files(std::move(doc), bin, path);
 }
 
 }  // namespace radiosity

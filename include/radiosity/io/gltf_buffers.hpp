@@ -214,7 +214,7 @@ inline const Bytes& gltf_buffer(GltfSource& g, std::uint64_t i) {
     const Json* uri = member(b, "uri");
     if (!uri) {  // only the first buffer of a .glb may leave out its uri: it is the BIN chunk
         if (i != 0 || !g.glb_bin) gltf_fail(g, at, "has no uri (and is not a .glb's BIN chunk)");
-        slot = *g.glb_bin;
+        slot = std::move(*g.glb_bin);  // buffer 0 is loaded once: the chunk is not needed again
     } else if (!uri->is_string()) {
         gltf_fail(g, at, "'uri' is not a string");
     } else {
@@ -322,8 +322,7 @@ inline AccessorData gltf_accessor(GltfSource& g, std::uint64_t i, const std::str
         gltf_fail(g, d.name, "type is " + t->get<std::string>() + ", expected " + type);
     const std::uint64_t ct = get_uint(g, a, d.name, "componentType");
     if (std::find(component_types.begin(), component_types.end(), static_cast<int>(ct)) ==
-            component_types.end() ||
-        component_size(ct) == 0)
+        component_types.end())
         gltf_fail(g, d.name, "componentType " + std::to_string(ct) + " is not allowed here");
     d.component_type = static_cast<int>(ct);
     const Json* norm = member(a, "normalized");
@@ -350,8 +349,9 @@ inline AccessorData gltf_accessor(GltfSource& g, std::uint64_t i, const std::str
     return d;
 }
 
-/// Component k of element e of an accessor, as a double (normalized integers mapped to [0, 1]
-/// or [-1, 1] as the glTF specification's section 3.11 says).
+/// Component k of element e of an accessor, as a double (normalized unsigned integers mapped
+/// to [0, 1] as the glTF specification's section 3.11 says). Signed types are admitted by no
+/// caller (indices and UVs are unsigned or float), so they are not read.
 inline double accessor_value(const AccessorData& d, std::size_t e, std::size_t k) {
     const std::uint8_t* p = d.first + e * d.stride + k * component_size(d.component_type);
     auto load = [p]<class T>(T) {
@@ -359,14 +359,9 @@ inline double accessor_value(const AccessorData& d, std::size_t e, std::size_t k
         std::memcpy(&v, p, sizeof v);  // glTF data need not be aligned for this machine
         return v;
     };
-    switch (d.component_type) {
-        case gltf::signed_byte:
-            return d.normalized ? std::max(load(std::int8_t{}) / 127.0, -1.0) : load(std::int8_t{});
+    switch (d.component_type) {  // the types gltf_accessor's callers admit
         case gltf::unsigned_byte:
             return d.normalized ? load(std::uint8_t{}) / 255.0 : load(std::uint8_t{});
-        case gltf::signed_short:
-            return d.normalized ? std::max(load(std::int16_t{}) / 32767.0, -1.0)
-                                : load(std::int16_t{});
         case gltf::unsigned_short:
             return d.normalized ? load(std::uint16_t{}) / 65535.0 : load(std::uint16_t{});
         case gltf::unsigned_int:

@@ -129,7 +129,7 @@ class GltfSceneReader {
         walk_nodes(root_nodes());
         Scene<S>& s = out_.scene;
         if (!all_uvs_) s.face_uvs.clear();
-        if (uses_default_) s.materials.push_back({S{}, from_rgb<S>(0.5f, 0.5f, 0.5f), "default"});
+        if (uses_default_) s.materials.push_back(Material<S>::unnamed());
         if (s.faces.empty()) gltf_fail(g_, "scene", "has no triangles");
         return std::move(out_);
     }
@@ -303,10 +303,12 @@ class GltfSceneReader {
         const bool mirrored = glm::determinant(world) < 0.0;
         std::vector<std::uint32_t> added(local.size(), std::numeric_limits<std::uint32_t>::max());
         if (uv.empty()) all_uvs_ = false;
+        std::vector<Vec3> placed(local.size());  // each vertex transformed once
+        for (std::size_t v = 0; v < local.size(); ++v)
+            placed[v] = Vec3(world * glm::dvec4(local[v], 1.0));
         for (auto t : tris) {
             if (mirrored) std::swap(t[1], t[2]);
-            std::array<Vec3, 3> p;
-            for (int k = 0; k < 3; ++k) p[k] = Vec3(world * glm::dvec4(local[t[k]], 1.0));
+            const std::array<Vec3, 3> p{placed[t[0]], placed[t[1]], placed[t[2]]};
             if (!(polygon_area(p) > 0.0)) {  // also a repeated index, or an overflow to inf/nan
                 ++out_.dropped_triangles;
                 continue;
@@ -323,9 +325,9 @@ class GltfSceneReader {
         Scene<S>& s = out_.scene;
         std::vector<std::uint32_t> face(3);
         for (int k = 0; k < 3; ++k) {
-            if (!std::isfinite(p[k].x) || !std::isfinite(p[k].y) || !std::isfinite(p[k].z))
-                gltf_fail(g_, at, "a transformed vertex is not a finite point");
-            if (added[t[k]] == std::numeric_limits<std::uint32_t>::max()) {
+            if (added[t[k]] == std::numeric_limits<std::uint32_t>::max()) {  // checked once
+                if (!std::isfinite(p[k].x) || !std::isfinite(p[k].y) || !std::isfinite(p[k].z))
+                    gltf_fail(g_, at, "a transformed vertex is not a finite point");
                 if (s.positions.size() >= std::numeric_limits<std::uint32_t>::max())
                     gltf_fail(g_, at, "the scene has more than 2^32 - 1 vertices");
                 added[t[k]] = static_cast<std::uint32_t>(s.positions.size());

@@ -134,7 +134,7 @@ Scene<S> read_obj(const std::string& path) {
         }
     }
     if (!all_uvs) scene.face_uvs.clear();
-    if (uses_default) scene.materials.push_back({S{}, from_rgb<S>(0.5f, 0.5f, 0.5f), "default"});
+    if (uses_default) scene.materials.push_back(Material<S>::unnamed());
     if (scene.faces.empty()) throw Error(path + ": no faces");
     return scene;
 }

@@ -179,6 +179,7 @@ Atlas make_lightmap_uvs(M& mesh, const UnwrapOptions& options = {}) {
     atlas.charts = charts.size();
     atlas.face_chart.assign(mesh.n_faces(), 0);
     const double W = atlas.width, H = atlas.height;
+    std::vector<glm::vec2> uv;  // one face's corners, reused
     for (std::size_t c = 0; c < charts.size(); ++c) {
         const Chart& chart = charts[c];
         // The chart's texels start `gutter` texels inside its packing rectangle.
@@ -186,7 +187,7 @@ Atlas make_lightmap_uvs(M& mesh, const UnwrapOptions& options = {}) {
         for (std::size_t k = 0; k < chart.faces.size(); ++k) {
             const auto f = mesh.face_handle(static_cast<int>(chart.faces[k]));
             atlas.face_chart[chart.faces[k]] = static_cast<std::uint32_t>(c);
-            std::vector<glm::vec2> uv;
+            uv.clear();
             for (const Vec2& p : chart.corners(k))
                 uv.emplace_back((x0 + p.x * density) / W, (y0 + p.y * density) / H);
             set_corner_uvs(mesh, f, uv);

@@ -44,12 +44,11 @@ struct BakeOptions {
 };
 
 /// A baked lightmap: linear radiant exitance B per texel (row 0 on top, as UVs have it), what
-/// each texel holds, the chart (connected island of texels) it belongs to and its surface point.
+/// each texel holds and the chart (connected island of texels) it belongs to.
 struct Lightmap {
     Image image;                        ///< B per texel (RGB); io/image.hpp writes it
     std::vector<TexelState> state;      ///< per texel
     std::vector<std::uint32_t> island;  ///< per texel: its chart's island, or no_island
-    std::vector<glm::vec3> position;    ///< per texel: its point on the surface (surface, inside)
     static constexpr std::uint32_t no_island = UINT32_MAX;  ///< island of an empty texel
 
     /// Index of texel (x, y).
@@ -80,8 +79,9 @@ inline double nearest_on_segment(const glm::dvec2& a, const glm::dvec2& b, const
 /// The point of triangle t (texel coordinates) nearest to p: barycentrics and squared distance.
 /// Inside (edge functions of one sign, Pineda 1988) the point is p itself; outside, the
 /// nearest point of the three edges.
-inline TexelHit nearest_point(const std::array<glm::dvec2, 3>& t, const glm::dvec2& p) {
-    const double area = cross2(t[1] - t[0], t[2] - t[0]);
+/// area is cross2(t[1] - t[0], t[2] - t[0]), twice the signed area, computed once per triangle.
+inline TexelHit nearest_point(const std::array<glm::dvec2, 3>& t, double area,
+                              const glm::dvec2& p) {
     const double w0 = cross2(t[2] - t[1], p - t[1]), w1 = cross2(t[0] - t[2], p - t[2]),
                  w2 = cross2(t[1] - t[0], p - t[0]);
     TexelHit hit;
@@ -108,8 +108,7 @@ inline TexelHit nearest_point(const std::array<glm::dvec2, 3>& t, const glm::dve
 /// Whether the texel square [x, x+1] x [y, y+1] touches triangle t: the separating-axis test
 /// with the triangle's edge normals (the box's own axes are covered by the caller's bounding
 /// box). A degenerate triangle is a segment: the square must straddle its line.
-inline bool square_touches(const std::array<glm::dvec2, 3>& t, double x, double y) {
-    const double area = cross2(t[1] - t[0], t[2] - t[0]);
+inline bool square_touches(const std::array<glm::dvec2, 3>& t, double area, double x, double y) {
     const std::array<glm::dvec2, 4> corner{glm::dvec2(x, y), glm::dvec2(x + 1, y),
                                            glm::dvec2(x, y + 1), glm::dvec2(x + 1, y + 1)};
     for (int e = 0; e < 3; ++e) {
@@ -133,6 +132,7 @@ inline std::vector<TexelHit> cover_texels(const ShadedMesh& mesh, int width, int
         std::array<glm::dvec2, 3> t;
         for (int k = 0; k < 3; ++k)
             t[k] = glm::dvec2(mesh.uvs[mesh.triangles[i][k]]) * glm::dvec2(width, height);
+        const double area = cross2(t[1] - t[0], t[2] - t[0]);  // twice the signed area
         const glm::dvec2 lo = glm::min(t[0], glm::min(t[1], t[2])),
                          hi = glm::max(t[0], glm::max(t[1], t[2]));
         const int x0 = std::max(0, int(std::floor(lo.x)) - (std::floor(lo.x) == lo.x ? 1 : 0)),
@@ -141,14 +141,26 @@ inline std::vector<TexelHit> cover_texels(const ShadedMesh& mesh, int width, int
                   y1 = std::min(height - 1, int(std::floor(hi.y)));
         for (int y = y0; y <= y1; ++y)
             for (int x = x0; x <= x1; ++x) {
-                if (!square_touches(t, x, y)) continue;
-                TexelHit h = nearest_point(t, glm::dvec2(x + 0.5, y + 0.5));
+                if (!square_touches(t, area, x, y)) continue;
+                TexelHit h = nearest_point(t, area, glm::dvec2(x + 0.5, y + 0.5));
                 h.triangle = static_cast<std::uint32_t>(i);
                 TexelHit& b = best[std::size_t(y) * width + x];
                 if (h.distance2 < b.distance2) b = h;
             }
     }
     return best;
+}
+
+/// Calls visit(j) for each of the (up to) 8 neighbours j of texel i in a w x h map, row by row.
+template <class Visit>
+void for_each_neighbour(int w, int h, std::size_t i, Visit&& visit) {
+    const int x = int(i % std::size_t(w)), y = int(i / std::size_t(w));
+    for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+            const int nx = x + dx, ny = y + dy;
+            if ((dx != 0 || dy != 0) && nx >= 0 && ny >= 0 && nx < w && ny < h)
+                visit(std::size_t(ny) * std::size_t(w) + std::size_t(nx));
+        }
 }
 
 /// Labels the 8-connected islands of covered texels (one per chart when charts are apart),
@@ -165,17 +177,11 @@ inline void label_islands(Lightmap& lm) {
         while (!stack.empty()) {
             const std::size_t i = stack.back();
             stack.pop_back();
-            const int x = int(i % w), y = int(i / w);
-            for (int dy = -1; dy <= 1; ++dy)
-                for (int dx = -1; dx <= 1; ++dx) {
-                    const int nx = x + dx, ny = y + dy;
-                    if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
-                    const std::size_t j = lm.index(nx, ny);
-                    if (lm.state[j] == TexelState::empty || lm.island[j] != Lightmap::no_island)
-                        continue;
-                    lm.island[j] = next;
-                    stack.push_back(j);
-                }
+            for_each_neighbour(w, h, i, [&](std::size_t j) {
+                if (lm.state[j] == TexelState::empty || lm.island[j] != Lightmap::no_island) return;
+                lm.island[j] = next;
+                stack.push_back(j);
+            });
         }
         ++next;
     }
@@ -206,7 +212,7 @@ inline bool inside_geometry(const Bvh& bvh, const PatchTable& triangles, const V
         const auto hit = bvh.intersect(origin, d);
         if (hit && glm::dot(d, triangles.normal(hit->patch)) > 0.0) ++back;
     }
-    return back > o.inside_fraction * o.inside_rays;
+    return back > need;
 }
 
 /// Growth of a fill or a dilation, ring by ring, for at most `passes` rings: in each ring, every
@@ -217,15 +223,7 @@ inline bool inside_geometry(const Bvh& bvh, const PatchTable& triangles, const V
 template <class Want>
 void grow(Lightmap& lm, std::vector<bool>& has_light, Want want, TexelState now, int passes) {
     const int w = lm.image.width, h = lm.image.height;
-    auto neighbours = [&](std::size_t i, auto&& visit) {
-        const int x = int(i % std::size_t(w)), y = int(i / std::size_t(w));
-        for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx) {
-                const int nx = x + dx, ny = y + dy;
-                if ((dx != 0 || dy != 0) && nx >= 0 && ny >= 0 && nx < w && ny < h)
-                    visit(lm.index(nx, ny));
-            }
-    };
+    auto neighbours = [w, h](std::size_t i, auto&& visit) { for_each_neighbour(w, h, i, visit); };
     std::vector<bool> queued(has_light.size(), false);
     std::vector<std::size_t> frontier;
     auto enqueue = [&](std::size_t j) {
@@ -296,7 +294,6 @@ inline void shade_texels(Lightmap& lm, const ShadedMesh& mesh, const std::vector
             p += w[v] * mesh.positions[t[v]];
         }
         lm.image.pixels[i] = glm::vec3(c);
-        lm.position[i] = glm::vec3(p);
         const bool inside =
             o.inside_rays > 0 && inside_geometry(bvh, triangles, p, triangles.normal(hit.triangle),
                                                  offset, o, splitmix64(o.seed ^ splitmix64(i)));
@@ -330,7 +327,6 @@ inline Lightmap bake_lightmap(const ShadedMesh& mesh, int width, int height,
     lm.image = Image{width, height, std::vector<glm::vec3>(texels, glm::vec3(0.0f))};
     lm.state.assign(texels, TexelState::empty);
     lm.island.assign(texels, Lightmap::no_island);
-    lm.position.assign(texels, glm::vec3(0.0f));
     detail::shade_texels(lm, mesh, detail::cover_texels(mesh, width, height), options);
     detail::label_islands(lm);
     // Texels inside geometry take the light of their valid neighbours, ring by ring.

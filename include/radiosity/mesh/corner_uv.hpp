@@ -56,16 +56,15 @@ glm::vec2 corner_uv(const M& mesh, typename M::FaceHandle f, typename M::VertexH
 /// half-edge texcoord property if the mesh has none yet. Throws Error if the count is wrong.
 template <class M>
 void set_corner_uvs(M& mesh, typename M::FaceHandle f, std::span<const glm::vec2> uv) {
+    if (mesh.valence(f) != uv.size())
+        throw Error("face " + std::to_string(f.idx()) + ": " + std::to_string(uv.size()) +
+                    " UVs for " + std::to_string(mesh.valence(f)) + " corners");
     if (!has_corner_uvs(mesh)) mesh.request_halfedge_texcoords2D();
     std::size_t k = 0;
     for (auto h : mesh.fh_range(f)) {
-        if (k >= uv.size()) break;
         mesh.set_texcoord2D(h, {uv[k].x, uv[k].y});
         ++k;
     }
-    if (k != uv.size() || mesh.valence(f) != uv.size())
-        throw Error("face " + std::to_string(f.idx()) + ": " + std::to_string(uv.size()) +
-                    " UVs for " + std::to_string(mesh.valence(f)) + " corners");
 }
 
 }  // namespace radiosity

@@ -46,6 +46,9 @@ struct Material {
     S emission{};      ///< E (W/m^2 or any consistent unit); radiance is E / pi
     S reflectance{};   ///< R, each band in [0, 1)
     std::string name;  ///< for messages and exports
+
+    /// The material of faces whose file names none: reflectance 0.5 in every band, no emission.
+    static Material unnamed() { return {S{}, from_rgb<S>(0.5f, 0.5f, 0.5f), "default"}; }
 };
 
 /// A scene as plain arrays: vertex positions, polygon faces (vertex indices, counter-clockwise

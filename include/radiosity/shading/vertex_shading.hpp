@@ -109,7 +109,7 @@ ShadedMesh smooth_shading(const Mesh<S>& mesh, const SmoothShadingOptions& optio
         }
         // Area-weighted sum of B and area of each group, then one output vertex per (group,
         // UV) pair.
-        std::map<std::size_t, std::pair<glm::dvec3, double>> sums;
+        std::vector<std::pair<glm::dvec3, double>> sums(faces.size(), {glm::dvec3(0.0), 0.0});
         for (std::size_t m = 0; m < faces.size(); ++m) {
             const double a = area[static_cast<std::size_t>(faces[m].idx())];
             auto& [sum, weight] = sums[find(m)];
@@ -124,7 +124,7 @@ ShadedMesh smooth_shading(const Mesh<S>& mesh, const SmoothShadingOptions& optio
                                                 static_cast<std::uint32_t>(out.positions.size()));
             if (fresh) {
                 const auto& p = mesh.point(v);
-                const auto& [sum, weight] = sums.at(root);
+                const auto& [sum, weight] = sums[root];
                 out.positions.emplace_back(p[0], p[1], p[2]);
                 out.colours.push_back(glm::vec3(sum / weight));
                 if (has_corner_uvs(mesh)) out.uvs.push_back(uv);
