@@ -68,6 +68,11 @@ TEST_CASE("bvh: closest hits and occlusion against a hand-made scene") {
 }
 
 namespace {
+/// A patch index drawn uniformly.
+std::uint32_t random_patch(const PatchTable& t, Rng& rng) {
+    return static_cast<std::uint32_t>(rng.uniform() * double(t.size()));
+}
+
 /// A closed 4 x 4 x 4 room with nine blocks standing on its floor, sharing the floor's plane.
 PatchTable cluttered_room() {
     PatchTable t;
@@ -91,8 +96,7 @@ TEST_CASE("bvh answers exactly as testing every triangle, on random rays in a cl
     std::vector<Vec3> xs, ys;
     int disagree = 0, blocked = 0;
     for (int k = 0; k < 4000; ++k) {
-        const auto a = static_cast<std::uint32_t>(rng.uniform() * double(t.size()));
-        const auto b = static_cast<std::uint32_t>(rng.uniform() * double(t.size()));
+        const std::uint32_t a = random_patch(t, rng), b = random_patch(t, rng);
         if (a == b) continue;
         jittered_pairs(t.polygon(a), t.polygon(b), 1, rng, xs, ys);
         const bool hidden = bvh.occluded(xs[0], ys[0], a, b);
@@ -151,8 +155,7 @@ TEST_CASE("bvh occlusion is exactly the double-precision watertight test of ever
     std::vector<Vec3> xs, ys;
     int disagree = 0, blocked = 0;
     for (int k = 0; k < 3000; ++k) {
-        const auto a = static_cast<std::uint32_t>(rng.uniform() * double(t.size()));
-        const auto b = static_cast<std::uint32_t>(rng.uniform() * double(t.size()));
+        const std::uint32_t a = random_patch(t, rng), b = random_patch(t, rng);
         if (a == b) continue;
         jittered_pairs(t.polygon(a), t.polygon(b), 1, rng, xs, ys);
         const std::array<std::array<Vec3, 2>, 3> segments{
