@@ -3,12 +3,12 @@
 // replaced by hostile ones) must each either load into a valid scene or be refused with a
 // radiosity::Error, never crash, hang or throw anything else. Run it under the sanitizer build
 // (README) to catch memory errors too.
+#include <radiosity/geometry/patch_table.hpp>
 #include <radiosity/geometry/sampling.hpp>
 #include <radiosity/io/gltf.hpp>
 #include <radiosity/io/gltf_read.hpp>
 #include <radiosity/io/obj.hpp>
 #include <radiosity/io/rrv.hpp>
-#include <radiosity/mesh/patch_table.hpp>
 #include <radiosity/mesh/subdivide.hpp>
 
 #include <doctest/doctest.h>

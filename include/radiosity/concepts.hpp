@@ -2,7 +2,7 @@
 /// @file concepts.hpp  The customisation points of the library, each stated as a contract.
 /// A policy header ends with a static_assert that its type models its concept.
 
-#include <radiosity/mesh/patch_table.hpp>
+#include <radiosity/geometry/patch_table.hpp>
 #include <radiosity/progress.hpp>
 #include <radiosity/spectrum.hpp>
 

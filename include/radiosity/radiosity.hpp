@@ -10,6 +10,7 @@
 #include <radiosity/form_factor/ray_cast.hpp>
 #include <radiosity/form_factor/visibility.hpp>
 #include <radiosity/geometry/bvh.hpp>
+#include <radiosity/geometry/patch_table.hpp>
 #include <radiosity/geometry/polygon.hpp>
 #include <radiosity/geometry/raster.hpp>
 #include <radiosity/geometry/sampling.hpp>
@@ -30,7 +31,6 @@
 #include <radiosity/mesh/corner_uv.hpp>
 #include <radiosity/mesh/manifold.hpp>
 #include <radiosity/mesh/mesh.hpp>
-#include <radiosity/mesh/patch_table.hpp>
 #include <radiosity/mesh/subdivide.hpp>
 #include <radiosity/mesh/weld.hpp>
 #include <radiosity/progress.hpp>

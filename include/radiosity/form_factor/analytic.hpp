@@ -17,7 +17,7 @@
 #include <radiosity/geometry/bvh.hpp>
 #include <radiosity/geometry/polygon.hpp>
 #include <radiosity/geometry/sampling.hpp>
-#include <radiosity/mesh/patch_table.hpp>
+#include <radiosity/geometry/patch_table.hpp>
 
 #include <algorithm>
 #include <array>

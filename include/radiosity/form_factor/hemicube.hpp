@@ -10,7 +10,7 @@
 #include <radiosity/error.hpp>
 #include <radiosity/geometry/raster.hpp>
 #include <radiosity/geometry/sampling.hpp>
-#include <radiosity/mesh/patch_table.hpp>
+#include <radiosity/geometry/patch_table.hpp>
 
 #include <array>
 #include <cmath>

@@ -15,7 +15,7 @@
 #include <radiosity/form_factor/visibility.hpp>
 #include <radiosity/geometry/bvh.hpp>
 #include <radiosity/geometry/sampling.hpp>
-#include <radiosity/mesh/patch_table.hpp>
+#include <radiosity/geometry/patch_table.hpp>
 
 #include <algorithm>
 #include <cmath>

@@ -5,7 +5,7 @@
 
 #include <radiosity/geometry/bvh.hpp>
 #include <radiosity/geometry/sampling.hpp>
-#include <radiosity/mesh/patch_table.hpp>
+#include <radiosity/geometry/patch_table.hpp>
 #include <radiosity/geometry/vec.hpp>
 
 #include <cmath>

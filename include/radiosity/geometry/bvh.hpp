@@ -11,7 +11,7 @@
 #include <radiosity/geometry/vec.hpp>
 
 #include <glm/gtc/type_ptr.hpp>
-#include <radiosity/mesh/patch_table.hpp>
+#include <radiosity/geometry/patch_table.hpp>
 
 #include <algorithm>
 #include <array>

@@ -9,7 +9,7 @@
 
 #include <radiosity/error.hpp>
 #include <radiosity/geometry/bvh.hpp>
-#include <radiosity/mesh/patch_table.hpp>
+#include <radiosity/geometry/patch_table.hpp>
 
 #include <embree3/rtcore.h>
 

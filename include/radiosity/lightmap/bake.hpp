@@ -12,7 +12,7 @@
 #include <radiosity/error.hpp>
 #include <radiosity/geometry/bvh.hpp>
 #include <radiosity/geometry/sampling.hpp>
-#include <radiosity/mesh/patch_table.hpp>
+#include <radiosity/geometry/patch_table.hpp>
 #include <radiosity/shading/camera.hpp>
 #include <radiosity/shading/shaded_mesh.hpp>
 
