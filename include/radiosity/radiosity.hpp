@@ -35,6 +35,7 @@
 #include <radiosity/mesh/weld.hpp>
 #include <radiosity/progress.hpp>
 #include <radiosity/shading/camera.hpp>
+#include <radiosity/shading/image.hpp>
 #include <radiosity/shading/shaded_mesh.hpp>
 #include <radiosity/shading/tonemap.hpp>
 #include <radiosity/shading/vertex_shading.hpp>

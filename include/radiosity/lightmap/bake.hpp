@@ -11,9 +11,9 @@
 
 #include <radiosity/error.hpp>
 #include <radiosity/geometry/bvh.hpp>
-#include <radiosity/geometry/sampling.hpp>
 #include <radiosity/geometry/patch_table.hpp>
-#include <radiosity/shading/camera.hpp>
+#include <radiosity/geometry/sampling.hpp>
+#include <radiosity/shading/image.hpp>
 #include <radiosity/shading/shaded_mesh.hpp>
 
 #include <algorithm>
