@@ -7,9 +7,14 @@
 #include <radiosity/form_factor/analytic.hpp>
 #include <radiosity/form_factor/hemicube.hpp>
 #include <radiosity/form_factor/matrix.hpp>
+#include <radiosity/form_factor/pair_culling.hpp>
 #include <radiosity/form_factor/ray_cast.hpp>
 #include <radiosity/form_factor/visibility.hpp>
+#include <radiosity/geometry/brute_force_visibility.hpp>
 #include <radiosity/geometry/bvh.hpp>
+#include <radiosity/geometry/bvh/build.hpp>
+#include <radiosity/geometry/bvh/tree.hpp>
+#include <radiosity/geometry/bvh/triangle.hpp>
 #include <radiosity/geometry/patch_table.hpp>
 #include <radiosity/geometry/polygon.hpp>
 #include <radiosity/geometry/raster.hpp>
