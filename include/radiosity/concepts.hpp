@@ -79,9 +79,8 @@ concept Visibility = requires(const V& v, const Vec3& p, const Vec3& q, std::uin
 /// true, and returns whether one did; `v.box_slack()` bounds how far a box may reach beyond what
 /// it holds, in any direction. Model: Bvh.
 template <class V>
-concept PairCulling =
-    Visibility<V> && requires(const V& v, bool (*enter)(const Vec3&, const Vec3&),
-                              bool (*test)(const PatchTriangle&)) {
+concept PairCulling = Visibility<V> && requires(const V& v, bool (*enter)(const Vec3&, const Vec3&),
+                                                bool (*test)(const PatchTriangle&)) {
     { v.any_triangle(enter, test) } -> std::convertible_to<bool>;
     { v.box_slack() } -> std::convertible_to<double>;
 };

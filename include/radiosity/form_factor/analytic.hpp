@@ -218,7 +218,7 @@ inline double exchange_integral(std::span<const Vec3> a, const Vec3& n_a, std::s
 /// Analytic<Bvh>), or any Visibility built over the patch table. Cost per pair: 35 contour
 /// integrals for well-separated patches, more near shared edges; a row costs O(n) pairs.
 template <class V = Bvh>
-    requires Visibility<V> && std::constructible_from<V, const PatchTable&>
+requires Visibility<V> && std::constructible_from<V, const PatchTable&>
 class Analytic {
   public:
     /// A method with the given settings; throws Error for a non-positive tolerance or depth.

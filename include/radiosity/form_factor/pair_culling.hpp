@@ -41,8 +41,7 @@ bool may_block(const V& visibility, const Vec3& lo, const Vec3& hi, std::uint32_
     const double margin = eps + visibility.box_slack();
     auto box_behind = [&](const Vec3& l, const Vec3& h, const std::array<Vec3, 2>& plane) {
         const Vec3 centre = 0.5 * (l + h), half = 0.5 * (h - l);
-        return glm::dot(centre - plane[0], plane[1]) + glm::dot(half, glm::abs(plane[1])) <=
-               margin;
+        return glm::dot(centre - plane[0], plane[1]) + glm::dot(half, glm::abs(plane[1])) <= margin;
     };
     auto enter = [&](const Vec3& l, const Vec3& h) {
         return overlaps(l, h) && !box_behind(l, h, plane_a) && !box_behind(l, h, plane_b);

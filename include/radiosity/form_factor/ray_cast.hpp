@@ -72,7 +72,7 @@ std::shared_ptr<const V> build_visibility(const PatchTable& patches, const BvhOp
 /// method's adaptive quadrature, and still k^2 rays for their visible fraction. Where V offers
 /// pair culling (PairCulling), a pair that nothing can stand between casts no ray.
 template <class V = Bvh>
-    requires Visibility<V> && std::constructible_from<V, const PatchTable&>
+requires Visibility<V> && std::constructible_from<V, const PatchTable&>
 class RayCast {
   public:
     /// A method with the given settings; throws Error for samples outside [1, 65536].

@@ -23,8 +23,7 @@ namespace radiosity {
 class BruteForceVisibility {
   public:
     /// The fan triangles of the table's patches (fan_triangles, as the BVH takes them).
-    explicit BruteForceVisibility(const PatchTable& patches)
-        : triangles_(fan_triangles(patches)) {}
+    explicit BruteForceVisibility(const PatchTable& patches) : triangles_(fan_triangles(patches)) {}
 
     std::size_t triangle_count() const { return triangles_.size(); }  ///< triangles held
 

@@ -140,6 +140,7 @@ class Bvh {
                 node.first[k] = first;
             }
         triangles_ = std::move(laid_out);
+        RADIOSITY_ASSERT(triangles_.size() % 4 == 0);
         blocks_.assign(triangles_.size() / 4, {});
         planes_.resize(triangles_.size());
         for (std::size_t t = 0; t < triangles_.size(); ++t) {
@@ -154,8 +155,7 @@ class Bvh {
     detail::AxisPlane shared_plane(std::size_t k) const {
         const detail::AxisPlane& p = planes_[4 * k];
         for (std::size_t lane = 1; lane < 4; ++lane)
-            if (planes_[4 * k + lane].axis != p.axis || planes_[4 * k + lane].at != p.at)
-                return {};
+            if (planes_[4 * k + lane].axis != p.axis || planes_[4 * k + lane].at != p.at) return {};
         return p;
     }
 
@@ -206,6 +206,7 @@ class Bvh {
     template <bool any_hit, class Visit>
     bool test_leaf(const RayQuery& q, std::uint32_t first, std::uint32_t count, Visit& visit,
                    const double* t_far) const {
+        RADIOSITY_ASSERT(first % 4 == 0 && count > 0);  // leaves start a block (lay_out_blocks)
         auto skipped = [&](const detail::TriangleBlock& block, int lane) {
             return block.patch[lane] == q.skip[0] || block.patch[lane] == q.skip[1];
         };

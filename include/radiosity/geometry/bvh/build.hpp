@@ -32,8 +32,8 @@ struct BvhOptions {
 /// The eight-wide nodes over n primitives, and the order of the primitives: a leaf's range
 /// [first, first + count) holds primitives order[first] ... order[first + count - 1].
 struct BvhNodes {
-    std::vector<BvhNode> nodes;         ///< nodes[0] is the root; empty for no primitives
-    std::vector<std::uint32_t> order;   ///< primitive indices, leaf by leaf
+    std::vector<BvhNode> nodes;        ///< nodes[0] is the root; empty for no primitives
+    std::vector<std::uint32_t> order;  ///< primitive indices, leaf by leaf
 };
 
 namespace detail {

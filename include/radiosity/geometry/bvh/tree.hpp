@@ -182,14 +182,13 @@ class BvhTree {
   public:
     /// Deep enough for any tree: the build stops splitting at depth bvh_max_depth, and each node
     /// on the path pushes at most bvh_width - 1 siblings.
-    static constexpr std::size_t stack_size =
-        (bvh_width - 1) * detail::bvh_max_depth + bvh_width;
+    static constexpr std::size_t stack_size = (bvh_width - 1) * detail::bvh_max_depth + bvh_width;
 
     BvhTree() = default;
     /// The tree of these nodes (made by build_bvh_nodes, geometry/bvh/build.hpp).
     explicit BvhTree(std::vector<BvhNode> nodes) : nodes_(std::move(nodes)) {}
 
-    std::size_t node_count() const { return nodes_.size(); }    ///< nodes, root included
+    std::size_t node_count() const { return nodes_.size(); }      ///< nodes, root included
     const std::vector<BvhNode>& nodes() const { return nodes_; }  ///< nodes[0] is the root
 
     /// The leaves that a ray enters (ray: RayBoxes from t_start), walked with an explicit stack:
