@@ -14,12 +14,16 @@
 #include <radiosity/geometry/raster.hpp>
 #include <radiosity/geometry/sampling.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <numbers>
 #include <span>
+#include <string>
+#include <utility>
 #include <vector>
 
 #if defined(__SSE2__)

@@ -9,22 +9,19 @@
 
 #include <radiosity/concepts.hpp>
 #include <radiosity/config.hpp>
-#include <radiosity/detail/float4.hpp>
 #include <radiosity/geometry/bvh/build.hpp>
 #include <radiosity/geometry/bvh/tree.hpp>
 #include <radiosity/geometry/bvh/triangle.hpp>
 #include <radiosity/geometry/patch_table.hpp>
 #include <radiosity/geometry/vec.hpp>
 
-#include <glm/gtc/type_ptr.hpp>
-
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <optional>
-#include <span>
 #include <utility>
 #include <vector>
 
