@@ -1,8 +1,8 @@
 // The visibility seam: every Visibility model answers as the definition (every triangle tested,
 // BruteForceVisibility), and the form-factor methods over any model give the Cornell box's rows:
 // bit for bit over the brute force and the BVH (the same rays; the BVH's pair culling, which
-// the brute force lacks, casts none where none can be blocked), and within the rounding of
-// single precision over Embree (when built with RADIOSITY_WITH_EMBREE).
+// the brute force lacks, casts none where none can be blocked), and over Embree (when built with
+// RADIOSITY_WITH_EMBREE) but for rays that single precision might decide otherwise.
 #include <radiosity/form_factor/analytic.hpp>
 #include <radiosity/form_factor/pair_culling.hpp>
 #include <radiosity/form_factor/ray_cast.hpp>
@@ -194,36 +194,22 @@ TEST_CASE("analytic with visibility over the brute force and over the BVH: the s
 }
 
 #if defined(RADIOSITY_WITH_EMBREE)
-namespace {
-/// The largest |a - b| over all entries.
-double largest_difference(const std::vector<std::vector<float>>& a,
-                          const std::vector<std::vector<float>>& b) {
-    double worst = 0.0;
-    for (std::size_t r = 0; r < a.size(); ++r)
-        for (std::size_t j = 0; j < a[r].size(); ++j)
-            worst = std::max(worst, std::abs(double(a[r][j]) - double(b[r][j])));
-    return worst;
-}
-}  // namespace
-
 TEST_CASE("ray-cast and analytic over Embree give the Cornell rows of the BVH") {
-    // Embree tests the same rays in single precision, from 1e-6 to 1 - 1e-6 of each segment:
-    // a ray that grazes an edge or ends within a micrometre of a surface may be answered
-    // otherwise, and its pair's row entries move by its share of the rays.
+    // The same rays. Embree tests them in single precision, from 1e-6 to 1 - 1e-6 of each
+    // segment, with the SIMD width of the CPU it runs on: a ray that grazes an edge could be
+    // answered otherwise, and its pair's entries move. On the machine of the tests (Embree
+    // 3.13) no entry differs, bit for bit; allowed: one entry in a thousand.
     const PatchTable& t = cornell();
     const std::vector<std::size_t> which = cornell_rows();
+    const std::size_t entries = t.size() * which.size();
     const auto by_bvh = rows(RayCast(), t, which);
     const auto by_embree = rows(RayCast<EmbreeVisibility>(), t, which);
-    const std::size_t entries = t.size() * which.size();
     CAPTURE(differing(by_bvh, by_embree));
-    CAPTURE(largest_difference(by_bvh, by_embree));
-    CHECK(differing(by_bvh, by_embree) < entries / 100);
-    CHECK(largest_difference(by_bvh, by_embree) < 1e-3);
+    CHECK(differing(by_bvh, by_embree) <= entries / 1000);
     const AnalyticOptions o{.tolerance = 1e-3, .visibility_samples = 16, .penumbra_samples = 64};
     const auto analytic_bvh = rows(Analytic(o), t, which);
     const auto analytic_embree = rows(Analytic<EmbreeVisibility>(o), t, which);
     CAPTURE(differing(analytic_bvh, analytic_embree));
-    CHECK(differing(analytic_bvh, analytic_embree) < entries / 100);
-    CHECK(largest_difference(analytic_bvh, analytic_embree) < 1e-3);
+    CHECK(differing(analytic_bvh, analytic_embree) <= entries / 1000);
 }
 #endif
