@@ -227,8 +227,8 @@ class Bvh {
                     continue;
                 const PatchTriangle& tri = triangles_[at + lane];
                 double t, u, v;
-                if (hit_triangle(tri, q.o, q.sheared, q.t0, t_far ? *t_far : q.t1, t, u, v) &&
-                    visit(tri, t, u, v))
+                const double far = any_hit || !t_far ? q.t1 : *t_far;
+                if (hit_triangle(tri, q.o, q.sheared, q.t0, far, t, u, v) && visit(tri, t, u, v))
                     return true;
             }
         }
@@ -245,15 +245,23 @@ class Bvh {
     bool traverse(const Vec3& o, const Vec3& d, double t0, double t1, Visit&& visit,
                   const double* t_far = nullptr,
                   std::array<std::uint32_t, 2> skip = {no_patch, no_patch}) const {
-        if constexpr (any_hit) t_far = nullptr;
         if (tree_.node_count() == 0 || d == Vec3(0.0)) return false;
         const RayQuery q = prepare_ray(o, d, t0, t1, any_hit, skip);
-        const float t1_above = detail::float_above(t1);
-        auto far_key = [&] { return t_far ? detail::float_above(*t_far) : t1_above; };
-        auto leaf = [&](std::uint32_t first, std::uint32_t count) {
-            return test_leaf<any_hit>(q, first, count, visit, t_far);
-        };
-        return tree_.traverse<!any_hit>(q.boxes, q.t0_below, far_key, leaf);
+        if constexpr (any_hit) {  // the far end stays t1: no t_far to read back
+            const float t1_above = detail::float_above(t1);
+            auto far_key = [t1_above] { return t1_above; };
+            auto leaf = [&](std::uint32_t first, std::uint32_t count) {
+                return test_leaf<true>(q, first, count, visit, nullptr);
+            };
+            return tree_.traverse<false>(q.boxes, q.t0_below, far_key, leaf);
+        } else {
+            const float t1_above = detail::float_above(t1);
+            auto far_key = [&] { return t_far ? detail::float_above(*t_far) : t1_above; };
+            auto leaf = [&](std::uint32_t first, std::uint32_t count) {
+                return test_leaf<false>(q, first, count, visit, t_far);
+            };
+            return tree_.traverse<true>(q.boxes, q.t0_below, far_key, leaf);
+        }
     }
 
     static constexpr std::uint32_t no_patch = std::numeric_limits<std::uint32_t>::max();
