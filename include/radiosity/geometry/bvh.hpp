@@ -169,6 +169,7 @@ class Bvh {
         unsigned flat;
     };
 
+    /// The ray o + t d for t in (t0, t1), set up once for the walk and the leaf tests.
     RayQuery prepare_ray(const Vec3& o, const Vec3& d, double t0, double t1, bool any_hit,
                          std::array<std::uint32_t, 2> skip) const {
         const ShearedRay sheared(d);
