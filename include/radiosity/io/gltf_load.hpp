@@ -5,8 +5,11 @@
 /// read. tinygltf parses the JSON, splits the .glb and loads the buffers (files beside the glTF,
 /// base64 data URIs, the BIN chunk); it does not check that an index points at an element or
 /// that an accessor lies inside its buffer, so that is done here, before every read. Every
-/// failure is a one-line radiosity::Error naming the file and the element. Internal: use
-/// io/gltf_read.hpp.
+/// failure is a one-line radiosity::Error naming the file and the element. What tinygltf 2.7
+/// does differently from the reader it replaced: a buffer's data URI or file must hold exactly
+/// byteLength bytes (the Khronos validator also accepts more); a property of the wrong JSON type
+/// reads as absent, and an index is narrowed to int (2^32 reads as 0); its own messages name the
+/// kind of element ("accessor"), not its index. Internal: use io/gltf_read.hpp.
 
 #include <radiosity/error.hpp>
 
