@@ -55,10 +55,10 @@ const T& gltf_element(const GltfSource& g, const std::vector<T>& all, const char
     return all[static_cast<std::size_t>(i)];
 }
 
-/// The .glb container's magic ("glTF" read as a little-endian word) and chunk types (section 4.4).
+/// The .glb container's magic ("glTF" read as a little-endian word) and JSON chunk type
+/// (section 4.4; tinygltf checks the BIN chunk's type).
 inline constexpr std::uint32_t glb_magic = 0x46546C67u;
 inline constexpr std::uint32_t glb_json_chunk = 0x4E4F534Au;  ///< "JSON"
-inline constexpr std::uint32_t glb_bin_chunk = 0x004E4942u;   ///< "BIN\0"
 
 /// Reads a little-endian 32-bit word (the .glb header and chunk headers).
 inline std::uint32_t le32(const Bytes& b, std::size_t at) {
