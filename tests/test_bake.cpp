@@ -13,6 +13,7 @@
 #include <radiosity/shading/vertex_shading.hpp>
 
 #include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
 
 #include <cstring>
 #include <filesystem>

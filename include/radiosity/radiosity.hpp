@@ -21,7 +21,7 @@
 #include <radiosity/geometry/sampling.hpp>
 #include <radiosity/geometry/vec.hpp>
 #include <radiosity/io/gltf.hpp>
-#include <radiosity/io/gltf_constants.hpp>
+#include <radiosity/io/gltf_load.hpp>
 #include <radiosity/io/gltf_read.hpp>
 #include <radiosity/io/image.hpp>
 #include <radiosity/io/obj.hpp>
