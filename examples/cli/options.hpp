@@ -51,26 +51,30 @@ void add_camera_options(CLI::App& app, CameraArgs& a);
 struct PictureArgs {
     std::string image;  ///< PNG; empty: none, unless no output at all is named (outputs.hpp)
     std::string hdr;    ///< Radiance HDR
-    int width = 512, height = 512;
-    CameraArgs camera;
-    bool flat = false;      ///< one colour per patch instead of smooth shading
-    double exposure = 0.0;  ///< exposure compensation in stops
+    int width = 512, height = 512;  ///< picture size in pixels
+    CameraArgs camera;              ///< where the picture is taken from
+    bool flat = false;              ///< one colour per patch instead of smooth shading
+    double exposure = 0.0;          ///< exposure compensation in stops
 };
 
 /// The solved scene written for other tools: meshes, RRV's XML and tables of numbers.
 struct ExportArgs {
-    std::string ply, gltf, rrv_out;
-    bool ply_float = false;  ///< linear float colours in the PLY instead of 8-bit sRGB
-    std::string dump_form_factors, form_factors_text, dump_patches;
+    std::string ply;                ///< the shaded mesh as PLY
+    bool ply_float = false;         ///< linear float colours in the PLY instead of 8-bit sRGB
+    std::string gltf;               ///< the shaded mesh as glTF (textured with a baked lightmap)
+    std::string rrv_out;            ///< the solved scene in RRV's XML
+    std::string dump_form_factors;  ///< F as CSV
+    std::string form_factors_text;  ///< F as plain text for thermal tools
+    std::string dump_patches;       ///< the patches (area, centroid, normal, E, R, B) as CSV
 };
 
 /// A lightmap bake: the picture it goes into and the atlas's size, density and gutter.
 struct LightmapArgs {
-    std::string path;            ///< .hdr, .exr or .png; empty: no bake
-    int size = 256;              ///< 2.8k patches on the Cornell box: a bake of seconds
-    double texel_density = 0.0;  ///< > 0: texels per scene unit instead of a fixed size
-    int gutter = 2;
-    double texels_per_patch = 4.0;
+    std::string path;  ///< .hdr, .exr or .png; empty: no bake
+    int size = 256;    ///< width and height in texels (the Cornell box: 2.8k patches, seconds)
+    double texel_density = 0.0;     ///< > 0: texels per scene unit instead of a fixed size
+    int gutter = 2;                 ///< empty texels around each chart, filled by dilation
+    double texels_per_patch = 4.0;  ///< longest patch edge in texels (0: the meshing options)
 };
 
 /// Everything the `radiosity` program writes.
@@ -83,7 +87,8 @@ struct OutputArgs {
 /// Declares the groups "Pictures", "Exports" and "Lightmaps" on app, filling a.
 void add_output_options(CLI::App& app, OutputArgs& a);
 
-/// Parses the command line. Returns the exit status if the program is to stop now: 0 after
+/// Parses the command line (--help sets each option group apart by a blank line, so the groups
+/// read as sections). Returns the exit status if the program is to stop now: 0 after
 /// printing --help, 2 after a one-line error on stderr ("NAME: error: ... (see --help)");
 /// nothing if it is to go on.
 std::optional<int> parse(CLI::App& app, int argc, char** argv);
