@@ -13,7 +13,7 @@
 #include <radiosity/shading/vertex_shading.hpp>
 
 #include <doctest/doctest.h>
-#include <support/threads.hpp>
+#include "support/threads.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -350,13 +350,20 @@ TEST_CASE("the lightmap rendered back through its UVs matches the vertex-interpo
     CHECK(border <= gradient * texel);  // at the border, within one texel's change
 }
 
-TEST_CASE("the bake is bit-identical on 1 and 2 threads" * test::needs_threads()) {
+TEST_CASE("the bake is bit-identical on 1 and 2 threads" *
+          doctest::skip(test::threads::without_openmp) *
+          doctest::description("needs OpenMP: without it every run is on one thread")) {
     // The floor and box: texels inside the box are found by rays seeded per texel, so a
     // thread-dependent stream would change which texels are inside, and so the light they take.
     const int size = 64;
     const ShadedMesh m = floor_and_box(1.0);
-    const Lightmap one = test::on_threads(1, [&] { return bake_lightmap(m, size, size); });
-    const Lightmap two = test::on_threads(2, [&] { return bake_lightmap(m, size, size); });
+    std::vector<Lightmap> runs;
+    for (int threads : {1, 2}) {
+        const test::threads::Forced forced(threads);
+        REQUIRE(test::threads::team_size() == threads);  // else nothing would be compared
+        runs.push_back(bake_lightmap(m, size, size));
+    }
+    const Lightmap &one = runs[0], &two = runs[1];
     REQUIRE(one.count(TexelState::inside) > 0);
     REQUIRE(one.count(TexelState::surface) > 0);
     CHECK(std::memcmp(one.image.pixels.data(), two.image.pixels.data(),

@@ -10,7 +10,7 @@
 #include <radiosity/shading/tonemap.hpp>
 
 #include <doctest/doctest.h>
-#include <support/threads.hpp>
+#include "support/threads.hpp"
 
 #include <algorithm>
 #include <cstring>
@@ -200,12 +200,18 @@ TEST_CASE("a sphere cut into charts: texels on both sides of each seam agree") {
 }
 
 TEST_CASE("the same scene bakes into bit-identical lightmaps on 1 and 2 threads" *
-          test::needs_threads()) {
+          doctest::skip(test::threads::without_openmp) *
+          doctest::description("needs OpenMP: without it every run is on one thread")) {
     const auto scene = build_mesh(cornell_box<Rgb>());
     LightmapOptions o;
     o.unwrap.size = 128;
-    const auto one = test::on_threads(1, [&] { return bake(scene, SolveOptions{}, o); });
-    const auto two = test::on_threads(2, [&] { return bake(scene, SolveOptions{}, o); });
+    std::vector<BakeResult<Rgb>> runs;
+    for (int threads : {1, 2}) {
+        const test::threads::Forced forced(threads);
+        REQUIRE(test::threads::team_size() == threads);  // else nothing would be compared
+        runs.push_back(bake(scene, SolveOptions{}, o));
+    }
+    const auto &one = runs[0], &two = runs[1];
     // Form factors, the solve, the texels and the inside test (rays seeded per texel, under
     // the blocks) all went into these lightmaps.
     REQUIRE(one.lightmap.count(TexelState::inside) > 0);

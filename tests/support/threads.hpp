@@ -1,60 +1,56 @@
 #pragma once
-// Tests that results do not depend on the thread count. They prove something only where a
-// parallel region really runs on several threads: in a build without OpenMP they are skipped
-// (TEST_CASE("..." * test::needs_threads())), so that no test passes there by comparing a
-// one-thread run with itself; and on_threads fails the test if the OpenMP runtime hands out
-// fewer threads than asked for (OMP_THREAD_LIMIT, OMP_DYNAMIC).
-#include <doctest/doctest.h>
-
+// Forced thread counts for the tests that compare runs on one thread and on several. Without
+// OpenMP every run is on the calling thread, so such a comparison would prove nothing: those
+// tests are then skipped (doctest's skip decorator, with `threads::without_openmp`), and say so
+// in the summary, rather than pass without having compared anything.
 #if defined(RADIOSITY_WITH_OPENMP)
 #include <omp.h>
 #endif
 
-#include <utility>
+namespace radiosity::test::threads {
 
-namespace radiosity::test {
-
-/// Whether this build runs parallel regions on several threads.
+/// True in a build without OpenMP: the argument of doctest::skip for a thread-count test.
 #if defined(RADIOSITY_WITH_OPENMP)
-inline constexpr bool with_threads = true;
+inline constexpr bool without_openmp = false;
 #else
-inline constexpr bool with_threads = false;
+inline constexpr bool without_openmp = true;
 #endif
 
-/// The decorator of a thread-count test: skipped (not even listed for ctest) without OpenMP,
-/// where there is only ever one thread.
-inline doctest::skip needs_threads() {
-    return doctest::skip(!with_threads);
-}
-
-/// Calls f() with OpenMP set to n threads (dynamic adjustment off) and returns its result;
-/// REQUIREs that a parallel region then gets n threads.
-template <class F>
-auto on_threads(int n, F&& f) {
+/// Sets the OpenMP team size for the life of the object and restores the previous one after.
+class Forced {
+  public:
+    explicit Forced(int count) {
 #if defined(RADIOSITY_WITH_OPENMP)
-    const int before = omp_get_max_threads();
-    const int dynamic = omp_get_dynamic();
-    omp_set_dynamic(0);
-    omp_set_num_threads(n);
-    int team = 0;
+        before_ = omp_get_max_threads();
+        omp_set_num_threads(count);
+#else
+        (void)count;
+#endif
+    }
+    ~Forced() {
+#if defined(RADIOSITY_WITH_OPENMP)
+        omp_set_num_threads(before_);
+#endif
+    }
+    Forced(const Forced&) = delete;
+    Forced& operator=(const Forced&) = delete;
+
+  private:
+    int before_ = 1;
+};
+
+/// How many threads a parallel region gets now: what a test must check after forcing a count,
+/// since OMP_THREAD_LIMIT or OMP_DYNAMIC may give fewer than asked for (1 without OpenMP).
+inline int team_size() {
+    int size = 1;
+#if defined(RADIOSITY_WITH_OPENMP)
 #pragma omp parallel
     {
 #pragma omp single
-        team = omp_get_num_threads();
+        size = omp_get_num_threads();
     }
-    struct Restore {
-        int threads, dynamic;
-        ~Restore() {
-            omp_set_num_threads(threads);
-            omp_set_dynamic(dynamic);
-        }
-    } restore{before, dynamic};
-    REQUIRE_MESSAGE(team == n, "OpenMP gave " << team << " threads where " << n << " were asked");
-    return std::forward<F>(f)();
-#else
-    REQUIRE_MESSAGE(n == 1, "this build has no threads (built without OpenMP)");
-    return std::forward<F>(f)();
 #endif
+    return size;
 }
 
-}  // namespace radiosity::test
+}  // namespace radiosity::test::threads
