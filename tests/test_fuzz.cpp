@@ -237,7 +237,8 @@ TEST_CASE("OBJ/MTL reader: 3000 mutated files load (and subdivide) or are refuse
         try {
             const auto scene = read_obj<Rgb>((dir / "cli_two_squares.obj").string());
             const auto mesh = build_mesh(scene);
-            const PatchTable t = make_patch_table(subdivide(mesh, {0.4}));  // valid, finite
+            const PatchTable t =
+                make_patch_table(subdivide(mesh, {.max_edge = 0.4}));  // valid, finite
             for (std::size_t i = 0; i < t.size(); ++i) REQUIRE(std::isfinite(t.area(i)));
             ++loaded;
         } catch (const Error&) {

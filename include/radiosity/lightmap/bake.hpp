@@ -281,7 +281,9 @@ inline void shade_texels(Lightmap& lm, const ShadedMesh& mesh, const std::vector
     }
     const double offset = 1e-5 * glm::length(hi - lo);  // off the surface, not through a wall
     const auto n = static_cast<std::ptrdiff_t>(hits.size());
+#if defined(RADIOSITY_WITH_OPENMP)
 #pragma omp parallel for schedule(dynamic, 256)
+#endif
     for (std::ptrdiff_t k = 0; k < n; ++k) {
         const auto i = static_cast<std::size_t>(k);
         const TexelHit& hit = hits[i];
