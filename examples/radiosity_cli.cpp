@@ -288,6 +288,8 @@ int run(const Args& a) {
         return 130;
     }
     bar.finish();
+    for (const std::string& line : result.meshing.lines())
+        std::fprintf(stderr, "radiosity: %s\n", line.c_str());
     if (result.report.cancelled && !a.partial) {
         std::fprintf(stderr,
                      "radiosity: interrupted after %zu iterations (residual %.2e); nothing "
