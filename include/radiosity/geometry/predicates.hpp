@@ -202,13 +202,24 @@ inline int incircle_filtered(const Vec2& a, const Vec2& b, const Vec2& c, const 
     const double bound = exact::incircle_bound * permanent;
     return det > bound ? 1 : -det > bound ? -1 : 0;
 }
+
+/// The in-circle sign where floating point settles it from any of the four points as the origin
+/// of the differences (the even permutations (a b c d), (b a d c), (c d a b), (d c b a) have one
+/// determinant; their rounding bounds differ, most when one point lies far from the others);
+/// 0 when none does.
+inline int incircle_certain(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
+    if (const int s = incircle_filtered(a, b, c, d)) return s;
+    if (const int s = incircle_filtered(b, a, d, c)) return s;
+    if (const int s = incircle_filtered(c, d, a, b)) return s;
+    return incircle_filtered(d, c, b, a);
+}
 }  // namespace detail
 
 /// Whether d lies inside (+1), on (0) or outside (-1) the circle through a, b, c, which must be
 /// counter-clockwise (Guibas & Stolfi 1985's InCircle); exact. Cost: a few dozen flops, an exact
 /// expansion (some microseconds) only when d is within rounding of the circle.
 inline int incircle(const Vec2& a, const Vec2& b, const Vec2& c, const Vec2& d) {
-    const int s = detail::incircle_filtered(a, b, c, d);
+    const int s = detail::incircle_certain(a, b, c, d);
     return s != 0 ? s : detail::exact::incircle(a, b, c, d);
 }
 

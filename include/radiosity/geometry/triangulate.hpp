@@ -41,6 +41,10 @@ struct TriangulationInput {
     std::vector<std::vector<std::uint32_t>> loops;   ///< boundary loops over points: the outer
                                                      ///< counter-clockwise, holes clockwise
     std::vector<std::array<std::uint32_t, 2>> cuts;  ///< constraint segments inside the polygon
+    /// false: flip only where the floating-point in-circle test is certain: the same cover,
+    /// every free edge Delaunay up to rounding (points within rounding of one circle may keep
+    /// either diagonal); about 6 times faster for a 10,000-gon, whose corners all lie so.
+    bool exact_delaunay = true;
 };
 
 /// A constrained Delaunay triangulation of the region inside the loops.
@@ -75,8 +79,8 @@ class Cdt {
         bool dead = false;
     };
 
-    Cdt(std::vector<Vec2> points, std::string what)
-        : p_(std::move(points)), what_(std::move(what)) {
+    Cdt(std::vector<Vec2> points, std::string what, bool exact = true)
+        : p_(std::move(points)), what_(std::move(what)), exact_(exact) {
         input_ = static_cast<std::uint32_t>(p_.size());
         enclose();
     }
@@ -294,8 +298,7 @@ class Cdt {
         out.push_back(u2);
     }
 
-    /// Flips, while any is left, the free edges opposite point i that certainly fail the
-    /// in-circle test.
+    /// Flips, while any is left, the free edges opposite point i that fail the in-circle test.
     /// Each triangle in `stack` has i at corner 0, so its edge 1 is the one opposite i.
     void legalize(std::uint32_t i, std::vector<std::uint32_t>& stack) {
         while (!stack.empty()) {
@@ -306,9 +309,10 @@ class Cdt {
             if (u == none || t_[t].kind[1] != EdgeKind::free) continue;
             const std::uint32_t j = edge_of(u, t_[t].v[2], t_[t].v[1]);
             const std::uint32_t d = t_[u].v[prev(j)];
-            // Flip only where the test is certain: each such flip is a true improvement, so
-            // this ends (Lawson 1977); points within rounding of one circle stay as they are.
-            if (incircle_filtered(p_[t_[t].v[0]], p_[t_[t].v[1]], p_[t_[t].v[2]], p_[d]) <= 0)
+            // Exact, or only where floating point is certain (each such flip is a true
+            // improvement, so this ends too, Lawson 1977; near-cocircular points keep theirs).
+            const Vec2 &a = p_[t_[t].v[0]], &b = p_[t_[t].v[1]], &c = p_[t_[t].v[2]];
+            if ((exact_ ? incircle(a, b, c, p_[d]) : incircle_certain(a, b, c, p_[d])) <= 0)
                 continue;
             const auto [x, y] = flip(t, 1);
             stack.push_back(x);
@@ -388,6 +392,7 @@ class Cdt {
 
     std::vector<Vec2> p_;
     std::string what_;
+    bool exact_ = true;
     std::uint32_t input_ = 0;
 
   public:
@@ -592,7 +597,7 @@ inline Triangulation triangulate(const TriangulationInput& in,
     }
     for (const auto& c : in.cuts)
         if (c[0] >= n || c[1] >= n) throw Error(what + ": a cut's vertex is missing");
-    detail::Cdt cdt(in.points, what);
+    detail::Cdt cdt(in.points, what, in.exact_delaunay);
     for (std::uint32_t i = 0; i < n; ++i) cdt.insert_input_point(i);
     std::uint32_t id = 0;
     for (const auto& loop : in.loops) id += static_cast<std::uint32_t>(loop.size());

@@ -152,6 +152,8 @@ Scene<S> read_obj(const std::string& path) {
             if (uv.size() != face.size()) all_uvs = false;
             scene.faces.push_back(std::move(face));
             scene.face_uvs.push_back(std::move(uv));
+            if (face_number < lines.line.size())
+                scene.face_lines.push_back(lines.line[face_number]);
             scene.face_material.push_back(m < 0 ? default_material : static_cast<std::uint32_t>(m));
         }
         if (offset != shape.mesh.indices.size())
@@ -160,6 +162,7 @@ Scene<S> read_obj(const std::string& path) {
                         std::to_string(offset) + " in faces)");
     }
     if (!all_uvs) scene.face_uvs.clear();
+    if (scene.face_lines.size() != scene.faces.size()) scene.face_lines.clear();
     if (uses_default) scene.materials.push_back(Material<S>::unnamed());
     if (scene.faces.empty()) throw Error(path + ": no faces");
     return scene;

@@ -12,7 +12,9 @@
 /// Every point is made once, under a key that says where it lies (a corner, the crossing of an
 /// edge, diagonal or grid line with a grid line), so pieces on both sides of a diagonal or grid
 /// line share their points; and every patch edge records the line it lies on (its carrier), from
-/// which the subdivision inserts the points of the neighbours (no T-junctions).
+/// which the subdivision inserts the points of the neighbours (no T-junctions). Patches are
+/// convex to within the snap distance (a corner of a nearly collinear run may turn that little
+/// the wrong way); they cover the polygon exactly.
 
 #include <radiosity/error.hpp>
 #include <radiosity/geometry/convex_partition.hpp>
@@ -41,7 +43,10 @@ struct PolygonPatchOptions {
     double max_edge = 0.0;     ///< grid cells no wider or taller than this; 0: no limit
     double max_area = 0.0;     ///< grid cells of at most this area (square-ish); 0: no limit
     double merge_below = 0.5;  ///< pieces covering less than this share of a cell are merged
-    double snap = 0.0;         ///< a point within this distance of a grid line counts as on it
+    /// An inner grid line within this share of a cell of a corner is moved onto the corner,
+    /// so that no strip thinner than that forms between the line and the corner's edges.
+    double move_lines = 0.1;
+    double snap = 0.0;  ///< a point within this distance of a grid line counts as on it
 };
 
 /// The line a patch edge lies on: an edge of the polygon (from its corner `index` to the next),
@@ -95,6 +100,24 @@ inline std::vector<double> grid_lines(double lo, double hi, double max_edge, dou
     return x;
 }
 
+/// Moves each inner line of a grid onto the nearest of the coordinates c within `share` of a
+/// cell of it (the lines stay in order: they move by less than half a cell).
+inline void move_lines_onto(std::vector<double>& lines, std::span<const double> c, double share) {
+    if (lines.size() < 3) return;
+    const double reach = share * (lines.back() - lines.front()) / double(lines.size() - 1);
+    std::vector<double> best(lines.size(), reach), to(lines);
+    for (double x : c) {
+        const auto i = std::lower_bound(lines.begin() + 1, lines.end() - 1, x) - lines.begin();
+        for (auto j : {i - 1, i})
+            if (j >= 1 && j + 1 < static_cast<std::ptrdiff_t>(lines.size()) &&
+                std::abs(x - lines[std::size_t(j)]) < best[std::size_t(j)]) {
+                best[std::size_t(j)] = std::abs(x - lines[std::size_t(j)]);
+                to[std::size_t(j)] = x;
+            }
+    }
+    lines = std::move(to);
+}
+
 /// The cutter of one polygon (see the file comment).
 class PolygonCutter {
   public:
@@ -105,7 +128,7 @@ class PolygonCutter {
     };
     using Piece = std::vector<Corner>;
 
-    PolygonCutter(PolygonPatches& r, double snap) : r_(r), snap_(snap) {}
+    PolygonCutter(PolygonPatches& r, double snap) : r_(r), snap_{snap, snap} {}
 
     /// The point of polygon corner k.
     std::uint32_t corner(std::uint32_t k) {
@@ -119,34 +142,48 @@ class PolygonCutter {
 
     /// Which side of line `axis` = value a point is on: -1, +1, or 0 within snap of it.
     int side(std::uint32_t point, int axis, double value) const {
-        const double c = r_.points[point].xy[axis];
-        return c < value - snap_ ? -1 : c > value + snap_ ? 1 : 0;
+        const double c = r_.points[point].xy[axis], d = snap_[std::size_t(axis)];
+        return c < value - d ? -1 : c > value + d ? 1 : 0;
     }
+    /// The snap distance across lines of an axis.
+    double snap(int axis) const { return snap_[std::size_t(axis)]; }
 
     /// Splits a convex piece by grid line `line` of `axis` (0: x = x_lines[line], 1: y) into
-    /// the parts below and above it (empty where nothing lies strictly on that side).
+    /// the parts below and above it (empty where nothing lies strictly on that side; a piece
+    /// wholly within snap of the line goes above). Corners within snap of the line count as on
+    /// it; a run of them belongs, with the edges between them, to the part of the side before
+    /// the run, and the other part takes the run's last corner only, where it re-enters: so the
+    /// two parts meet along one chord and share no edge.
     std::pair<Piece, Piece> split(const Piece& piece, int axis, std::uint32_t line) {
         const double value = axis == 0 ? r_.x_lines[line] : r_.y_lines[line];
         const Carrier along{axis == 0 ? Carrier::grid_x : Carrier::grid_y, line};
         const std::size_t m = piece.size();
         std::vector<int> s(m);
         for (std::size_t k = 0; k < m; ++k) s[k] = side(piece[k].point, axis, value);
+        const auto strict = std::find_if(s.begin(), s.end(), [](int x) { return x != 0; });
+        if (strict == s.end()) return {Piece{}, piece};
+        const auto start = static_cast<std::size_t>(strict - s.begin());
         Piece part[2];
         for (int half = 0; half < 2; ++half) {
             const int keep = half == 0 ? -1 : 1;  // the strict side this part keeps
             if (std::find(s.begin(), s.end(), keep) == s.end()) continue;
             Piece& out = part[half];
-            for (std::size_t k = 0; k < m; ++k) {
-                const std::size_t n = (k + 1) % m;
-                const bool in = s[k] == keep || s[k] == 0, next_in = s[n] == keep || s[n] == 0;
-                // A corner's edge stays its own unless the part leaves the polygon there, at a
-                // corner on the line (then the part's edge runs along the line to its re-entry).
-                if (in)
-                    out.push_back({piece[k].point, next_in || s[k] == keep ? piece[k].out : along});
-                if (s[k] == -s[n] && s[k] != 0) {  // edge k crosses the line
-                    const std::uint32_t x = crossing(piece[k].out, axis, line);
-                    out.push_back({x, s[k] == keep ? along : piece[k].out});
+            int before = 0;  // the side of the last strict corner passed
+            for (std::size_t step = 0; step < m; ++step) {
+                const std::size_t k = (start + step) % m, n = (k + 1) % m;
+                if (s[k] != 0) {
+                    before = s[k];
+                    if (s[k] == keep) out.push_back(piece[k]);
+                    if (s[n] == -s[k])  // edge k crosses the line
+                        out.push_back({crossing(piece[k].out, axis, line),
+                                       s[k] == keep ? along : piece[k].out});
+                    continue;
                 }
+                const bool last = s[n] != 0;  // of its run
+                if (before == keep)
+                    out.push_back({piece[k].point, last && s[n] == -keep ? along : piece[k].out});
+                else if (last && s[n] == keep)
+                    out.push_back(piece[k]);  // where the part re-enters
             }
         }
         return {std::move(part[0]), std::move(part[1])};
@@ -205,7 +242,7 @@ class PolygonCutter {
     }
 
     PolygonPatches& r_;
-    double snap_;
+    std::array<double, 2> snap_;
     std::map<std::array<std::uint32_t, 3>, std::uint32_t> keys_;
 };
 
@@ -237,8 +274,8 @@ class CellMerger {
             lo = glm::min(lo, r.points[c.point].xy);
             hi = glm::max(hi, r.points[c.point].xy);
         }
-        const auto xs = cell_range(r.x_lines, lo.x, hi.x, o_.snap);
-        ys_ = cell_range(r.y_lines, lo.y, hi.y, o_.snap);
+        const auto xs = cell_range(r.x_lines, lo.x, hi.x, cut_.snap(0));
+        ys_ = cell_range(r.y_lines, lo.y, hi.y, cut_.snap(1));
         piece_ = piece;
         columns(C, xs[0], xs[1]);
     }
@@ -338,12 +375,21 @@ class CellMerger {
     }
 
     /// Merges p into q if they share a chain of edges, their union is convex and it spans at
-    /// most 2 x 2 cells; false otherwise. The union is p from the chain's end round to its
-    /// start, then q round to the end: the chain's inner points, which only p and q use, go.
-    bool merge(std::size_t p, std::size_t q) {
-        Cell &a = cells_[p], &b = cells_[q];
-        if (std::max(a.i1, b.i1) - std::min(a.i0, b.i0) > 1 ||
-            std::max(a.j1, b.j1) - std::min(a.j0, b.j0) > 1)
+    /// most `span` x `span` cells; false otherwise.
+    bool merge(std::size_t p, std::size_t q, std::uint32_t span = 2) {
+        Piece u;
+        if (!union_of(p, q, span, u)) return false;
+        commit(p, q, std::move(u));
+        return true;
+    }
+
+    /// The union of p and q into u, if they share a chain of edges, it is convex and spans at
+    /// most span x span cells: p from the chain's end round to its start, then q round to the
+    /// end (the chain's inner points, which only p and q use, go).
+    bool union_of(std::size_t p, std::size_t q, std::uint32_t span, Piece& u) const {
+        const Cell &a = cells_[p], &b = cells_[q];
+        if (std::max(a.i1, b.i1) - std::min(a.i0, b.i0) >= span ||
+            std::max(a.j1, b.j1) - std::min(a.j0, b.j0) >= span)
             return false;
         const std::size_t m = a.poly.size();
         auto shared = [&](std::size_t k) {  // edge k of p is an edge of q
@@ -357,7 +403,7 @@ class CellMerger {
         std::size_t e = s;  // one past the chain's last edge
         while (shared(e % m)) ++e;
         const std::uint32_t start = a.poly[s].point, end = a.poly[e % m].point;
-        Piece u;
+        u.clear();
         for (std::size_t k = e; k <= s + m; ++k) u.push_back(a.poly[k % m]);
         const std::size_t n = b.poly.size();
         std::size_t j = 0;
@@ -365,7 +411,11 @@ class CellMerger {
         u.back().out = b.poly[j].out;  // from the chain's start into q
         for (std::size_t k = (j + 1) % n; b.poly[k].point != end; k = (k + 1) % n)
             u.push_back(b.poly[k]);
-        if (!convex_at(u, 0) || !convex_at(u, s + m - e)) return false;
+        return convex_at(u, 0) && convex_at(u, s + m - e);
+    }
+
+    void commit(std::size_t p, std::size_t q, Piece u) {
+        Cell &a = cells_[p], &b = cells_[q];
         remove_edges(p);
         remove_edges(q);
         b.poly = std::move(u);
@@ -377,12 +427,14 @@ class CellMerger {
         b.piece = std::min(a.piece, b.piece);
         a.alive = false;
         add_edges(q);
-        return true;
     }
 
-    /// Whether the corner k of u turns left by at most 180 degrees. Where both its edges lie on
-    /// one carrier the corner is straight by construction (a crossing point is only within
-    /// rounding of the line it was computed on, so the exact test could call it reflex).
+    /// Whether the corner k of u turns left by at most 180 degrees, or right by so little that
+    /// it lies within snap of the line through its neighbours (a corner of a nearly collinear
+    /// run: merging there keeps the cover exact, as gluing moves no point, and spares a sliver
+    /// pinned by a corner that is reflex by rounding). Where both its edges lie on one carrier
+    /// the corner is straight by construction (a crossing point is only within rounding of the
+    /// line it was computed on).
     bool convex_at(const Piece& u, std::size_t k) const {
         const auto& P = cut_.result().points;
         const std::size_t m = u.size(), before = (k + m - 1) % m;
@@ -390,7 +442,9 @@ class CellMerger {
         const Vec2 &x = P[u[k].point].xy, &a = P[u[before].point].xy,
                    &b = P[u[(k + 1) % m].point].xy;
         const int o = orient2d(a, x, b);
-        return o > 0 || (o == 0 && glm::dot(a - x, b - x) < 0.0);
+        if (o > 0 || (o == 0 && glm::dot(a - x, b - x) < 0.0)) return true;
+        const double base = glm::length(b - a);
+        return glm::dot(x - a, b - x) > 0.0 && std::abs(cross2(x - a, b - a)) <= o_.snap * base;
     }
 
     void write() {
@@ -453,6 +507,13 @@ inline PolygonPatches polygon_patches(std::span<const Vec2> polygon,
     r.y_lines = detail::grid_lines(lo.y, hi.y, options.max_edge, options.max_area);
     r.cell_area =
         (hi.x - lo.x) / double(r.x_lines.size() - 1) * (hi.y - lo.y) / double(r.y_lines.size() - 1);
+    std::vector<double> xs, ys;
+    for (const Vec2& q : polygon) {
+        xs.push_back(q.x);
+        ys.push_back(q.y);
+    }
+    detail::move_lines_onto(r.x_lines, xs, options.move_lines);
+    detail::move_lines_onto(r.y_lines, ys, options.move_lines);
     detail::PolygonCutter cut(r, options.snap);
     detail::CellMerger cells(cut, options);
     for (std::uint32_t p = 0; p < r.partition.pieces.size(); ++p) {

@@ -659,16 +659,31 @@ class SubdivisionBuilder {
     std::map<std::tuple<std::size_t, std::size_t, std::size_t>, VH> on_edge_;
 };
 
-/// The soup as an OpenMesh mesh; welding can join faces into shapes a half-edge mesh cannot
-/// hold, so those are split first (make_manifold).
+/// The soup as an OpenMesh mesh, without the points no patch uses (points made one by the
+/// conforming pass); welding can join faces into shapes a half-edge mesh cannot hold, so those
+/// are split first (make_manifold).
 template <SpectrumType S>
 Mesh<S> soup_mesh(const Mesh<S>& in, const PatchSoup& soup) {
-    const ManifoldFaces m = make_manifold(soup.faces, soup.points.size());
+    std::vector<std::uint32_t> number(soup.points.size(), UINT32_MAX);
+    for (const auto& f : soup.faces)
+        for (std::uint32_t v : f) number[v] = 0;
+    std::vector<std::uint32_t> point;  // the soup's point of each vertex, in order
+    for (std::uint32_t v = 0; v < number.size(); ++v)
+        if (number[v] == 0) {
+            number[v] = static_cast<std::uint32_t>(point.size());
+            point.push_back(v);
+        }
+    std::vector<std::vector<std::uint32_t>> faces = soup.faces;
+    for (auto& f : faces)
+        for (std::uint32_t& v : f) v = number[v];
+    const ManifoldFaces m = make_manifold(faces, point.size());
     Mesh<S> out;
     std::vector<typename Mesh<S>::VertexHandle> vh;
     vh.reserve(m.origin.size());
-    for (std::uint32_t o : m.origin)
-        vh.push_back(out.add_vertex({soup.points[o].x, soup.points[o].y, soup.points[o].z}));
+    for (std::uint32_t o : m.origin) {
+        const Vec3& x = soup.points[point[o]];
+        vh.push_back(out.add_vertex({x.x, x.y, x.z}));
+    }
     std::vector<typename Mesh<S>::VertexHandle> c;
     for (std::size_t f = 0; f < m.faces.size(); ++f) {
         c.clear();
@@ -709,7 +724,7 @@ SubdivisionPlan plan_subdivision(const Mesh<S>& mesh, const SubdivisionOptions& 
     plan.polygon_of.assign(w.face.size(), 0);
     std::vector<Vec3> p;
     std::vector<Vec2> flat;
-    const PolygonPatchOptions cut{options.max_edge, options.max_area, 0.5, w.eps};
+    const PolygonPatchOptions cut{options.max_edge, options.max_area, 0.5, 0.1, w.eps};
     for (std::size_t f = 0; f < w.face.size(); ++f) {
         p.clear();
         for (std::uint32_t v : w.face[f]) p.push_back(w.point[v]);
