@@ -21,7 +21,7 @@ using namespace test_polygons;
 
 namespace {
 
-using i128 = __int128;
+__extension__ typedef __int128 i128;  // GCC and clang; __extension__: not ISO C++
 
 /// An integer of at most `bits` bits, as a double (exact).
 double integer(Rng& rng, int bits) {
