@@ -65,6 +65,9 @@ struct Scene {
     std::vector<std::vector<glm::vec2>> face_uvs;   ///< UV per corner of every face, or empty
     std::string source = "scene";                   ///< file or scene name, for messages
     std::vector<std::size_t> face_lines;  ///< line of each face in the source file, or empty
+    /// Faces of zero area that the reader left out on purpose (counted, so that programs can
+    /// say so: nothing is lost silently); build_mesh refuses such faces where they remain.
+    std::size_t zero_area_faces = 0;
 };
 
 namespace detail {
