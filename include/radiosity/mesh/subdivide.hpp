@@ -77,9 +77,10 @@ struct MeshingReport {
         }
         if (non_planar_faces > 0)
             out.push_back("meshing: " + std::to_string(non_planar_faces) +
-                          " face(s) not planar, cut as their projection onto their plane; face " +
-                          std::to_string(worst_non_planar_face) + " the most, a corner " +
-                          std::to_string(worst_non_planarity) + " of its size off its plane");
+                          " face(s) not planar (face " + std::to_string(worst_non_planar_face) +
+                          " the most: a corner " + std::to_string(worst_non_planarity) +
+                          " of its size off its best-fit plane); polygons among them are cut "
+                          "as their projection onto that plane, quads as bilinear grids");
         return out;
     }
 };
