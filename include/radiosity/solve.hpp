@@ -142,8 +142,9 @@ SolveResult<S> solve(const Mesh<S>& scene, const SolveOptions& options = {}) {
         throw Error("solve: tolerance must be a positive number, not " +
                     std::to_string(options.tolerance));
     Subdivided<S> meshed = subdivide_with_report(scene, options.subdivision);
-    SolveResult<S> result{std::move(meshed.mesh), {}, {}, 0.0, std::nullopt,
-                          std::move(meshed.report)};
+    SolveResult<S> result;
+    result.mesh = std::move(meshed.mesh);
+    result.meshing = std::move(meshed.report);
     result.patches = make_patch_table(result.mesh);
     const std::vector<S> E = face_emission(result.mesh), R = face_reflectance(result.mesh);
     const System<S> system{E, R, result.patches.areas()};
