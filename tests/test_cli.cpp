@@ -155,6 +155,35 @@ TEST_CASE("a zero-area face is a one-line error naming the face") {
     check_one_line_error("'" + data("cli_zero_area.obj") + "' --max-edge 0", "zero area");
 }
 
+TEST_CASE("a self-intersecting face is a one-line error naming the file, line and face") {
+    check_one_line_error("'" + data("cli_self_intersecting.obj") + "'",
+                         "cli_self_intersecting.obj:7: face 0");
+    check_one_line_error("'" + data("cli_self_intersecting.obj") + "'", "intersects itself");
+}
+
+TEST_CASE("an L-shaped floor: its patches cover area 3, none in its notch; a sliver reported") {
+    const Run r = run("'" + data("cli_l_room.obj") + "' --max-edge 0.25 --dump-patches '" +
+                      out("l_room.csv") + "'");
+    REQUIRE_MESSAGE(r.status == 0, r.err);
+    CHECK_MESSAGE(r.err.find("meshing: left out 1 face(s) of zero area (corners merged): 2") !=
+                      std::string::npos,
+                  r.err);
+    double floor = 0.0, ceiling = 0.0;
+    std::size_t in_notch = 0;
+    for (const auto& p : read_csv(out("l_room.csv"), true)) {
+        // columns: patch,area,cx,cy,cz,nx,ny,nz,...
+        if (p[7] > 0.5) {
+            floor += p[1];
+            in_notch += p[2] > 1.0 && p[3] > 1.0;
+        } else {
+            ceiling += p[1];
+        }
+    }
+    CHECK(floor == doctest::Approx(3.0).epsilon(1e-6));  // the dump's 9 digits
+    CHECK(ceiling == doctest::Approx(4.0).epsilon(1e-6));
+    CHECK(in_notch == 0);
+}
+
 TEST_CASE("a face index out of range is a one-line error") {
     check_one_line_error("'" + data("cli_bad_index.obj") + "' --max-edge 0", "cli_bad_index");
 }

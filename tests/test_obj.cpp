@@ -91,3 +91,28 @@ TEST_CASE("bad OBJ input: one line, naming the file and what is wrong") {
         CHECK(message.find('\n') == std::string::npos);
     }
 }
+
+TEST_CASE("faces of 256 corners and more are read whole, and the faces after them too") {
+    // tinyobjloader counts a face's corners in 8 bits: a 300-gon would read as 44 corners and
+    // shift the indices of every face after it.
+    const Scratch scratch;
+    std::string text;
+    const int n = 300;
+    for (int k = 0; k < n; ++k) {
+        const double t = 2.0 * 3.141592653589793 * k / n;
+        text += "v " + std::to_string(std::cos(t)) + " " + std::to_string(std::sin(t)) + " 0\n";
+    }
+    text += "v 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\nf";
+    for (int k = 1; k <= n; ++k) text += " " + std::to_string(k);
+    text += "\nf 301 304 303 302\n";
+    const auto scene = read_obj<Rgb>(scratch.write("disk.obj", text));
+    REQUIRE(scene.faces.size() == 2);
+    CHECK(scene.faces[0].size() == 300);
+    CHECK(scene.faces[1] == std::vector<std::uint32_t>{300, 303, 302, 301});
+    CHECK(scene.face_lines == std::vector<std::size_t>{305, 306});
+    // A self-intersecting face is refused naming its line.
+    const std::string bad =
+        scratch.write("bowtie.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 2 0\nf 1 2 5 3 4\n");
+    CHECK(error_of(bad).find("bowtie.obj:6: face 0") != std::string::npos);
+    CHECK(error_of(bad).find("intersects itself") != std::string::npos);
+}

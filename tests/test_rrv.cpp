@@ -65,6 +65,17 @@ TEST_CASE("RRV transforms: rotation order and direction, innermost first") {
     CHECK(glm::distance(vertex(s, 1), Vec3(1, 0, 0)) < 1e-12);
 }
 
+TEST_CASE("RRV: triangles placed with zero area are left out and counted, not lost silently") {
+    Scratch scratch;
+    // The same triangle twice: once as it is, once flattened by a zero scale in z and y.
+    const auto s = read_rrv<float>(scratch.write(
+        "flat.xml",
+        one_triangle("<object name=\"t\"/><scale dx=\"1\" dy=\"0\" dz=\"0\">", "</scale>")));
+    CHECK(s.faces.size() == 1);
+    CHECK(s.zero_area_faces == 1);
+    CHECK(read_rrv<float>(scratch.write("one.xml", one_triangle("", ""))).zero_area_faces == 0);
+}
+
 TEST_CASE("RRV strips keep one winding, colours override from set to triangle") {
     Scratch scratch;
     const auto s = read_rrv<Rgb>(scratch.write(

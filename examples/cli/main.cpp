@@ -47,6 +47,8 @@ int run(const Args& a) {
                      "radiosity: interrupted while computing form factors; nothing written\n");
         return 130;
     }
+    for (const std::string& line : solved->result.meshing.lines())
+        std::fprintf(stderr, "radiosity: %s\n", line.c_str());
     const auto& r = solved->result.report;
     if (r.cancelled && !a.partial) {
         std::fprintf(stderr,

@@ -46,7 +46,7 @@ struct SolveOptions {
 };
 
 /// What solve() returns: the patch mesh with B on every face, the patch geometry, the solver's
-/// report, the time spent on form factors and, if asked for, the matrix.
+/// report, the time spent on form factors, if asked for the matrix, and the meshing's report.
 template <SpectrumType S>
 struct SolveResult {
     Mesh<S> mesh;                             ///< subdivided mesh, B stored in each face
@@ -54,6 +54,7 @@ struct SolveResult {
     Report report;                            ///< the solver's report
     double form_factor_seconds = 0.0;         ///< time spent assembling F (0 for progressive)
     std::optional<DenseMatrix> form_factors;  ///< F, when keep_form_factors was set
+    MeshingReport meshing;  ///< faces left out and warnings of the meshing (subdivide.hpp)
 };
 
 /// Parses a form-factor method name: "analytic", "hemicube" or "raycast". Throws Error
@@ -132,14 +133,18 @@ void solve_with(SolveResult<S>& result, const System<S>& system, M& method, cons
 }  // namespace detail
 
 /// Solves the radiosity equation B = E + R F B on a scene (Goral et al. 1984; Cohen & Wallace
-/// 1993): conforming subdivision, form factors by the chosen method, the chosen solver. Throws
-/// Error on bad input and Cancelled if the progress callback stops the form factors.
+/// 1993): conforming subdivision (its report in the result), form factors by the chosen method,
+/// the chosen solver. Throws Error on bad input and Cancelled if the progress callback stops
+/// the form factors.
 template <SpectrumType S>
 SolveResult<S> solve(const Mesh<S>& scene, const SolveOptions& options = {}) {
     if (!(options.tolerance > 0.0) || !std::isfinite(options.tolerance))
         throw Error("solve: tolerance must be a positive number, not " +
                     std::to_string(options.tolerance));
-    SolveResult<S> result{subdivide(scene, options.subdivision), {}, {}, 0.0, std::nullopt};
+    Subdivided<S> meshed = subdivide_with_report(scene, options.subdivision);
+    SolveResult<S> result;
+    result.mesh = std::move(meshed.mesh);
+    result.meshing = std::move(meshed.report);
     result.patches = make_patch_table(result.mesh);
     const std::vector<S> E = face_emission(result.mesh), R = face_reflectance(result.mesh);
     const System<S> system{E, R, result.patches.areas()};

@@ -27,17 +27,34 @@ inline std::string one_line(std::string s) {
     return s;
 }
 
-/// Line numbers of the face ('f') statements of an OBJ file, in order, for error messages.
-inline std::vector<std::size_t> face_lines(const std::string& path) {
+/// The face ('f') statements of an OBJ file, in order: their line numbers (for error messages)
+/// and the number of corners each lists (tinyobjloader keeps that number in 8 bits).
+struct FaceLines {
+    std::vector<std::size_t> line, corners;
+};
+
+inline FaceLines face_lines(const std::string& path) {
     std::ifstream in(path);
-    std::vector<std::size_t> lines;
+    FaceLines out;
     std::string line;
     for (std::size_t n = 1; std::getline(in, line); ++n) {
         std::istringstream words(line);
         std::string first;
-        if (words >> first && first == "f") lines.push_back(n);
+        if (!(words >> first) || first != "f") continue;
+        std::size_t corners = 0;
+        for (std::string w; words >> w;) ++corners;
+        out.line.push_back(n);
+        out.corners.push_back(corners);
     }
-    return lines;
+    return out;
+}
+
+/// The number of corners of face `face` read by tinyobjloader: its count is the true count
+/// modulo 256, so a face of 256 corners or more takes the count of its line instead.
+inline std::size_t corner_count(std::size_t read, const FaceLines& lines, std::size_t face) {
+    if (face >= lines.corners.size()) return read;
+    const std::size_t listed = lines.corners[face];
+    return listed >= 256 && listed % 256 == read ? listed : read;
 }
 
 /// Checks an MTL material: Kd in [0, 1), Ke finite and >= 0, all finite.
@@ -62,8 +79,9 @@ inline void check_obj_material(const tinyobj::material_t& m, const std::string& 
 /// face has them (else, or if one lies outside [0, 1], the scene has none and a lightmap baker
 /// makes its own). Throws Error naming the file (and the line or material) for a missing or
 /// unreadable file, a missing MTL file, a face with fewer than 3 vertices or an index out of range,
-/// a non-finite coordinate, or a Kd outside [0, 1). build_mesh then checks areas, naming the file
-/// too.
+/// a non-finite coordinate, or a Kd outside [0, 1). Faces of any number of corners are read
+/// (tinyobjloader counts them modulo 256; the file's lines settle the rest). build_mesh then
+/// checks areas, naming the file too.
 template <SpectrumType S>
 Scene<S> read_obj(const std::string& path) {
     namespace fs = std::filesystem;
@@ -94,16 +112,20 @@ Scene<S> read_obj(const std::string& path) {
     }
     const auto default_material = static_cast<std::uint32_t>(scene.materials.size());
     bool uses_default = false;
-    const std::vector<std::size_t> lines = detail::face_lines(path);
+    const detail::FaceLines lines = detail::face_lines(path);
     std::size_t face_number = 0;
     bool all_uvs = true;  // lightmap UVs are used only if every face has them
     for (const auto& shape : reader.GetShapes()) {
         std::size_t offset = 0;
         for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f, ++face_number) {
             std::string at = path;  // "file:line", or "file: face n" if lines are unknown
-            at += face_number < lines.size() ? ":" : ": face ";
-            at += std::to_string(face_number < lines.size() ? lines[face_number] : face_number);
-            const std::size_t count = shape.mesh.num_face_vertices[f];
+            at += face_number < lines.line.size() ? ":" : ": face ";
+            at += std::to_string(face_number < lines.line.size() ? lines.line[face_number]
+                                                                 : face_number);
+            const std::size_t count =
+                detail::corner_count(shape.mesh.num_face_vertices[f], lines, face_number);
+            if (offset + count > shape.mesh.indices.size())
+                throw Error(at + ": the face's corners could not be read");
             if (count < 3) throw Error(at + ": a face needs at least 3 vertices");
             std::vector<std::uint32_t> face;
             std::vector<glm::vec2> uv;
@@ -130,10 +152,17 @@ Scene<S> read_obj(const std::string& path) {
             if (uv.size() != face.size()) all_uvs = false;
             scene.faces.push_back(std::move(face));
             scene.face_uvs.push_back(std::move(uv));
+            if (face_number < lines.line.size())
+                scene.face_lines.push_back(lines.line[face_number]);
             scene.face_material.push_back(m < 0 ? default_material : static_cast<std::uint32_t>(m));
         }
+        if (offset != shape.mesh.indices.size())
+            throw Error(path + ": the faces' corners could not be read (" +
+                        std::to_string(shape.mesh.indices.size()) + " listed, " +
+                        std::to_string(offset) + " in faces)");
     }
     if (!all_uvs) scene.face_uvs.clear();
+    if (scene.face_lines.size() != scene.faces.size()) scene.face_lines.clear();
     if (uses_default) scene.materials.push_back(Material<S>::unnamed());
     if (scene.faces.empty()) throw Error(path + ": no faces");
     return scene;

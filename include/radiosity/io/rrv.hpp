@@ -125,8 +125,9 @@ inline Vec3 rrv_rotate(Vec3 p, const Vec3& angles) {
 /// (triangle over triangle set over primitive); a missing reflectivity is 0, a missing emission
 /// 0; a reflectivity of 1 or more (RRV allows it) is clamped to options.max_reflectance. The
 /// `radiosity` attributes (RRV's starting values) are read but not used: a solve starts anew.
-/// Throws Error naming the file and line for malformed XML, unknown elements or objects, bad
-/// numbers, or a strip with too few vertices.
+/// Triangles placed with zero area (a zero scale, repeated corners) are left out and counted in
+/// Scene::zero_area_faces. Throws Error naming the file and line for malformed XML, unknown
+/// elements or objects, bad numbers, or a strip with too few vertices.
 template <SpectrumType S>
 Scene<S> read_rrv(const std::string& path, const RrvOptions& options = {}) {
     namespace fs = std::filesystem;
@@ -197,6 +198,7 @@ Scene<S> read_rrv(const std::string& path, const RrvOptions& options = {}) {
     detail::SceneBuilder<S> builder(path);
     std::map<std::array<float, 6>, std::uint32_t> material_of;
     using Transform = std::function<Vec3(const Vec3&)>;
+    std::size_t zero_area = 0;
     std::function<void(pugi::xml_node, const Transform&)> walk = [&](pugi::xml_node node,
                                                                      const Transform& outer) {
         for (pugi::xml_node n : node.children()) {
@@ -236,7 +238,10 @@ Scene<S> read_rrv(const std::string& path, const RrvOptions& options = {}) {
                                                       from_rgb<S>(key[3], key[4], key[5]),
                                                       "rrv " + std::to_string(material_of.size())});
                     const std::vector<Vec3> placed{outer(t.v[0]), outer(t.v[1]), outer(t.v[2])};
-                    if (polygon_area(placed) > 0.0) builder.face(placed, m->second);
+                    if (polygon_area(placed) > 0.0)
+                        builder.face(placed, m->second);
+                    else
+                        ++zero_area;  // a zero scale, or a degenerate triangle: counted
                 }
             } else {
                 throw Error(text.where(n) + ": unknown element <" + kind + "> in the body");
@@ -245,6 +250,7 @@ Scene<S> read_rrv(const std::string& path, const RrvOptions& options = {}) {
     };
     walk(scene_node.child("body"), [](const Vec3& p) { return p; });
     Scene<S> scene = builder.take();
+    scene.zero_area_faces = zero_area;
     if (scene.faces.empty()) throw Error(path + ": the scene places no triangles");
     return scene;
 }

@@ -8,6 +8,8 @@
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
 
 #include <radiosity/error.hpp>
+#include <radiosity/geometry/polygon.hpp>
+#include <radiosity/geometry/triangulate.hpp>
 #include <radiosity/geometry/vec.hpp>
 #include <radiosity/mesh/corner_uv.hpp>
 #include <radiosity/mesh/manifold.hpp>
@@ -62,6 +64,10 @@ struct Scene {
     std::vector<Material<S>> materials;             ///< the materials
     std::vector<std::vector<glm::vec2>> face_uvs;   ///< UV per corner of every face, or empty
     std::string source = "scene";                   ///< file or scene name, for messages
+    std::vector<std::size_t> face_lines;  ///< line of each face in the source file, or empty
+    /// Faces of zero area that the reader left out on purpose (counted, so that programs can
+    /// say so: nothing is lost silently); build_mesh refuses such faces where they remain.
+    std::size_t zero_area_faces = 0;
 };
 
 namespace detail {
@@ -76,11 +82,44 @@ void validate_material(const Material<S>& m, const std::string& where) {
         if (band(m.emission, k) < 0.0f) throw Error(where + ": emission is negative");
     }
 }
-/// Checks face f of a scene: at least 3 vertices, all existing and distinct, non-zero area, an
-/// existing material. Throws Error naming the source and the face.
+/// Whether polygon q, seen along its Newell normal, is simple: a triangle or convex quad is; any
+/// other is triangulated (geometry/triangulate.hpp), which refuses crossing, touching or
+/// overlapping edges with an Error beginning with `at`. A corner repeated in a row (a quad with
+/// two corners at one point, as at a sphere's pole) counts once.
+inline void check_simple(std::span<const Vec3> q, const std::string& at) {
+    std::vector<Vec3> p;
+    for (std::size_t k = 0; k < q.size(); ++k)
+        if (q[k] != q[(k + 1) % q.size()]) p.push_back(q[k]);
+    const Vec3 n = glm::normalize(newell_vector(p));
+    if (p.size() <= 3) return;
+    if (p.size() == 4) {
+        bool convex = true;
+        for (std::size_t k = 0; k < 4; ++k)
+            convex = convex &&
+                     glm::dot(glm::cross(p[k] - p[(k + 3) % 4], p[(k + 1) % 4] - p[k]), n) > 0.0;
+        if (convex) return;
+    }
+    Vec3 u, v;
+    orthonormal_basis(n, u, v);
+    TriangulationInput in;
+    in.exact_delaunay = false;  // only the edges' crossings matter here
+    in.loops.emplace_back();
+    for (const Vec3& x : p) {
+        in.loops[0].push_back(static_cast<std::uint32_t>(in.points.size()));
+        in.points.emplace_back(glm::dot(x - p[0], u), glm::dot(x - p[0], v));
+    }
+    triangulate(in, at);
+}
+
+/// Checks face f of a scene: at least 3 vertices, all existing and distinct, non-zero area, no
+/// edges that cross or touch (seen along its normal), an existing material. Throws Error naming
+/// the source, the line where the scene knows it, and the face.
 template <SpectrumType S>
 void validate_face(const Scene<S>& scene, std::size_t f) {
-    const std::string at = scene.source + ": face " + std::to_string(f);
+    const std::string at =
+        scene.source +
+        (f < scene.face_lines.size() ? ":" + std::to_string(scene.face_lines[f]) : "") + ": face " +
+        std::to_string(f);
     const auto& face = scene.faces[f];
     if (face.size() < 3) throw Error(at + " has fewer than 3 vertices");
     std::vector<Vec3> poly;
@@ -94,6 +133,7 @@ void validate_face(const Scene<S>& scene, std::size_t f) {
         poly.push_back(scene.positions[v]);
     }
     if (!(polygon_area(poly) > 0.0)) throw Error(at + " has zero area");
+    check_simple(poly, at);
     if (scene.face_material[f] >= scene.materials.size())
         throw Error(at + " refers to material " + std::to_string(scene.face_material[f]) +
                     ", which does not exist");
@@ -132,11 +172,11 @@ void set_face_uvs(M& mesh, typename M::FaceHandle h,
 }  // namespace detail
 
 /// Builds the patch mesh of a scene, checking every input: indices in range, at least three
-/// vertices, finite coordinates, non-zero area, reflectance in [0, 1), finite non-negative
-/// emission. Throws Error naming the source and the face or material at fault. Where the faces
-/// are not a manifold (an edge of three faces, faces of opposite orientation on one edge,
-/// bow-tie vertices), vertices are split (make_manifold): every face stays a patch. Lightmap UVs,
-/// if the scene has them, go onto the half-edges (corner_uv.hpp).
+/// vertices, finite coordinates, non-zero area, faces that do not intersect themselves,
+/// reflectance in [0, 1), finite non-negative emission. Throws Error naming the source and the face
+/// or material at fault. Where the faces are not a manifold (an edge of three faces, faces of
+/// opposite orientation on one edge, bow-tie vertices), vertices are split (make_manifold): every
+/// face stays a patch. Lightmap UVs, if the scene has them, go onto the half-edges (corner_uv.hpp).
 template <SpectrumType S>
 Mesh<S> build_mesh(const Scene<S>& scene) {
     const std::string& src = scene.source;
