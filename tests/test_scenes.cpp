@@ -132,7 +132,9 @@ TEST_CASE("empty Cornell box: light-to-wall form factors match the published val
     };
     std::map<std::string, double> F;
     for (std::size_t f = 0; f < t.size(); ++f) F[wall(f)] += analytic.pair(light, f);
-    for (const auto& [name, value] : published()["empty_box_light_form_factors"].items()) {
+    for (const auto& item : published()["empty_box_light_form_factors"].items()) {
+        const std::string& name = item.key();  // no binding: CAPTURE's lambda needs a variable
+        const auto& value = item.value();
         if (name == "front_opening") {
             // The open front: what leaves the light and hits no wall.
             double walls = 0.0;

@@ -396,7 +396,8 @@ class Hemicube {
     void view(std::size_t i, detail::HemicubeView& seen) const {
         const PatchTable& t = table();
         const Vec3& c = t.centroid(i);
-        const auto [u, v, n] = frame(i);
+        const std::array<Vec3, 3> uvn = frame(i);  // clang 14 cannot capture structured bindings
+        const Vec3 &u = uvn[0], &v = uvn[1], &n = uvn[2];
         const std::size_t m = first_.back();
         for (auto& a : seen.axis) a.resize(m);  // entries are written before they are read
         for (auto& list : seen.patches) list.clear();
