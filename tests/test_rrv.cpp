@@ -211,7 +211,7 @@ TEST_CASE("RRV nesting: 256 levels are read exactly, 20,000 refused with file an
     CHECK(read_rrv<float>((scratch.dir / "deeper.xml").string(), o).faces.size() == 1);
 }
 
-TEST_CASE("RRV transforms that overflow are refused; zero and tiny scales drop the triangle") {
+TEST_CASE("RRV transforms that overflow are refused, zero and tiny scales drop the triangle") {
     Scratch scratch;
     auto error_of = [&](const std::string& text) {
         try {
