@@ -107,7 +107,9 @@ inline void check_gltf_asset(const GltfSource& g) {
         gltf_fail(g, "asset", "version " + version->get<std::string>() + " is not 2.x");
     const Json& required = top_array(g, "extensionsRequired");
     for (const Json& e : required) {
-        const std::string name = e.is_string() ? e.get<std::string>() : e.dump();
+        // Not e.dump(): it recurses as deep as the entry nests (100,000 brackets overflowed).
+        const std::string name =
+            e.is_string() ? e.get<std::string>() : std::string("an entry of type ") + e.type_name();
         if (name.rfind("KHR_materials_", 0) != 0 && name.rfind("KHR_texture_", 0) != 0)
             gltf_fail(g, "extensionsRequired", name + " is not supported");
     }
