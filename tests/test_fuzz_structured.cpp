@@ -8,6 +8,7 @@
 // (a few seconds).
 #include <radiosity/geometry/polygon.hpp>
 #include <radiosity/geometry/sampling.hpp>
+#include <radiosity/io/gltf_read.hpp>
 #include <radiosity/io/obj.hpp>
 #include <radiosity/io/rrv.hpp>
 
@@ -17,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <unistd.h>
 #include <vector>
@@ -151,6 +153,17 @@ Placement random_placement(Rng& rng) {
     orthonormal_basis(n, u, v);
     const double s = std::pow(10.0, 6.0 * rng.uniform() - 3.0);
     return {s * u, s * v, Vec3(rng.uniform(), rng.uniform(), rng.uniform()) * 100.0 - 50.0};
+}
+
+/// A placement whose shift is at most 5 times its scale (0.1 .. 100), so that the corners of a
+/// 1,000-gon stay apart as floats and no triangle of a fan over them loses its area.
+Placement near_placement(Rng& rng) {
+    Placement p = random_placement(rng);
+    const double s = std::pow(10.0, 3.0 * rng.uniform() - 1.0) / glm::length(p.u);
+    p.u *= s;
+    p.v *= s;
+    p.origin = glm::length(p.u) * (Vec3(rng.uniform(), rng.uniform(), rng.uniform()) * 10.0 - 5.0);
+    return p;
 }
 
 // ---- OBJ + MTL -------------------------------------------------------------------------------
@@ -415,6 +428,253 @@ RrvCase random_rrv(Rng& rng, std::size_t max_depth) {
     return c;
 }
 
+// ---- glTF ------------------------------------------------------------------------------------
+
+/// A generated glTF scene: the document (a deep nesting is spliced into its text, where
+/// nlohmann's own dump would recurse), its buffer, the container, the triangles a load must
+/// give, and the expected outcome.
+struct GltfCase {
+    nlohmann::json doc;
+    std::vector<std::uint8_t> bin;
+    std::string deep;                    // replaces the string "@deep@" in the text
+    int container = 0;                   // 0: .gltf + .bin, 1: .gltf with base64, 2: .glb
+    std::vector<std::size_t> triangles;  // per mesh
+    std::vector<std::size_t> roots;      // the root nodes
+    std::size_t placed = 0;
+    Expect expect = Expect::load;
+    std::string what;
+};
+
+/// Appends values to the buffer with a view and an accessor over them; returns the accessor.
+template <class T>
+std::size_t gltf_accessor(GltfCase& c, const std::vector<T>& values, int component_type,
+                          const char* type, std::size_t count) {
+    const std::size_t at = c.bin.size();
+    const auto* bytes = reinterpret_cast<const std::uint8_t*>(values.data());
+    c.bin.insert(c.bin.end(), bytes, bytes + values.size() * sizeof(T));
+    while (c.bin.size() % 4 != 0) c.bin.push_back(0);
+    c.doc["bufferViews"].push_back(
+        {{"buffer", 0}, {"byteOffset", at}, {"byteLength", values.size() * sizeof(T)}});
+    c.doc["accessors"].push_back({{"bufferView", c.doc["bufferViews"].size() - 1},
+                                  {"componentType", component_type},
+                                  {"count", count},
+                                  {"type", type}});
+    return c.doc["accessors"].size() - 1;
+}
+
+/// A mesh of one or two primitives over a convex n-gon (n up to 1,000) in a random plane: a fan
+/// (mode 6), a strip of the same corners zigzagged (mode 5), or a list with 8-, 16- or 32-bit
+/// indices (mode 4); now and then also points or lines, which have no area and are skipped.
+void gltf_mesh(GltfCase& c, Rng& rng) {
+    nlohmann::json prims = nlohmann::json::array();
+    std::size_t triangles = 0;
+    for (std::size_t p = 0, np = 1 + below(rng, 2); p < np; ++p) {
+        const std::size_t n = one_of<std::size_t>(rng, {3, 4, 17, 250, 1000});
+        const std::size_t mode = below(rng, 8);
+        const Placement place = near_placement(rng);
+        std::vector<float> xyz;
+        const Outline o = regular(n);
+        for (std::size_t k = 0; k < n; ++k) {  // a strip zigzags: corners 0, 1, n-1, 2, n-2 ..
+            const std::size_t at = mode != 1 || k == 0 ? k : k % 2 ? (k + 1) / 2 : n - k / 2;
+            const Vec3 q = place(o[at]);
+            xyz.insert(xyz.end(), {float(q.x), float(q.y), float(q.z)});
+        }
+        nlohmann::json prim = {
+            {"attributes", {{"POSITION", gltf_accessor(c, xyz, 5126, "VEC3", n)}}}};
+        if (mode == 0) {
+            prim["mode"] = 6;
+        } else if (mode == 1) {
+            prim["mode"] = 5;
+        } else if (mode == 2) {
+            prim["mode"] = one_of<int>(rng, {0, 1, 2, 3});  // points and lines: skipped
+            prims.push_back(prim);
+            continue;
+        } else {
+            std::vector<std::uint32_t> fan;
+            for (std::size_t k = 1; k + 1 < n; ++k)
+                fan.insert(fan.end(), {0u, std::uint32_t(k), std::uint32_t(k + 1)});
+            const int kind =
+                n > 255 ? one_of<int>(rng, {5123, 5125}) : one_of<int>(rng, {5121, 5123, 5125});
+            std::size_t i;
+            if (kind == 5121)
+                i = gltf_accessor(c, std::vector<std::uint8_t>(fan.begin(), fan.end()), kind,
+                                  "SCALAR", fan.size());
+            else if (kind == 5123)
+                i = gltf_accessor(c, std::vector<std::uint16_t>(fan.begin(), fan.end()), kind,
+                                  "SCALAR", fan.size());
+            else
+                i = gltf_accessor(c, fan, kind, "SCALAR", fan.size());
+            prim["indices"] = i;
+        }
+        if (rng.uniform() < 0.5) prim["material"] = below(rng, 2);
+        prims.push_back(prim);
+        triangles += n - 2;
+    }
+    c.doc["meshes"].push_back({{"primitives", prims}});
+    c.triangles.push_back(triangles);
+}
+
+/// A random local transform: none, translation / rotation / scale (a mirroring one now and
+/// then), or a matrix.
+void gltf_transform(nlohmann::json& node, Rng& rng) {
+    const double a = 2.0 * std::numbers::pi * rng.uniform();
+    switch (below(rng, 4)) {
+        case 0:
+            return;
+        case 1:
+            node["translation"] = {rng.uniform() * 10, -rng.uniform(), 3.0};
+            node["rotation"] = {0.0, std::sin(a / 2), 0.0, std::cos(a / 2)};
+            node["scale"] = {rng.uniform() < 0.2 ? -1.0 : 0.5 + rng.uniform(), 1.0, 1.0};
+            return;
+        case 2:  // exporters round unit quaternions
+            node["rotation"] = {0.5, 0.5, 0.5, 0.5001};
+            return;
+        default:
+            node["matrix"] = {
+                std::cos(a), std::sin(a), 0, 0, -std::sin(a), std::cos(a), 0, 0, 0, 0, 1, 0,
+                1,           2,           3, 1};
+    }
+}
+
+/// The node tree: a chain of random depth (up to 3,000: the walk has no recursion) with
+/// branches, meshes on some nodes; its roots in c.roots.
+void gltf_nodes(GltfCase& c, Rng& rng) {
+    const std::size_t n = rng.uniform() < 0.1 ? 3000 : 1 + below(rng, 12);
+    for (std::size_t k = 0; k < n; ++k) {
+        nlohmann::json node = nlohmann::json::object();
+        gltf_transform(node, rng);
+        if (rng.uniform() < (n > 100 ? 0.005 : 0.6) || k + 1 == n) {
+            const std::size_t m = below(rng, c.triangles.size());
+            node["mesh"] = m;
+            c.placed += c.triangles[m];
+        }
+        // Each node hangs below an earlier one (a tree) or starts a new root.
+        if (k == 0 || rng.uniform() < 0.15)
+            c.roots.push_back(k);
+        else
+            c.doc["nodes"][k - 1 - below(rng, std::min<std::size_t>(k, 3))]["children"].push_back(
+                k);
+        c.doc["nodes"][k] = node;
+    }
+}
+
+/// Makes one hostile feature in a valid document and says what the reader must do with it.
+void make_gltf_hostile(GltfCase& c, Rng& rng) {
+    auto& nodes = c.doc["nodes"];
+    // The POSITION accessor of a triangle primitive that the last node places (the reader need
+    // not look at what no node places).
+    const auto& prims = c.doc["meshes"][nodes.back()["mesh"].get<std::size_t>()]["primitives"];
+    std::optional<std::size_t> used;
+    for (const auto& p : prims)
+        if (p.value("mode", 4) >= 4) used = p["attributes"]["POSITION"].get<std::size_t>();
+    c.expect = Expect::refuse;
+    std::size_t kind = below(rng, 10);
+    if ((kind == 2 || kind == 3) && !used) kind = 4;
+    switch (kind) {
+        case 0:
+            c.what = "a node that is its own ancestor, or has two parents";
+            nodes[nodes.size() - 1]["children"].push_back(0);
+            c.doc["scenes"] = {{{"nodes", c.roots}}};  // without, node 0 might be reached once
+            break;
+        case 1:
+            c.what = "a mesh that does not exist";
+            nodes[0]["mesh"] = c.doc["meshes"].size();
+            break;
+        case 2:
+            c.what = "an accessor that reads past its buffer";
+            c.doc["accessors"][*used]["count"] =
+                one_of<std::uint64_t>(rng, {1u << 20, 4294967295u});
+            break;
+        case 3:
+            c.what = "a view that starts past the buffer";
+            c.doc["bufferViews"][c.doc["accessors"][*used]["bufferView"].get<std::size_t>()]
+                 ["byteOffset"] = 1u << 30;
+            break;
+        case 4:
+            c.what = "an extension that changes the geometry";
+            c.doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+            break;
+        case 5:
+            c.what = "a deep nesting where an extension's name should be";
+            c.doc["extensionsRequired"] = {"@deep@"};
+            c.deep = std::string(100000, '[') + std::string(100000, ']');
+            break;
+        case 6:
+            c.what = "a deep nesting in extras (ignored, or refused)";
+            c.doc["extras"] = "@deep@";
+            c.deep = std::string(100000, '[') + std::string(100000, ']');
+            c.expect = Expect::either;
+            break;
+        case 7:
+            c.what = "zero scales (triangles of no area are dropped)";
+            for (auto& n : nodes) n["scale"] = {1.0, 0.0, 1.0}, n.erase("matrix");
+            c.expect = Expect::either;
+            break;
+        case 8:
+            c.what = "a buffer that is not there";
+            c.container = 0;
+            c.doc["buffers"][0]["uri"] = "missing.bin";
+            break;
+        default:
+            c.what = "a child index out of range";
+            nodes[0]["children"].push_back(nodes.size() + below(rng, 1000));
+    }
+}
+
+/// A random glTF scene: 1 to 3 meshes, a node tree over them, two materials.
+GltfCase random_gltf(Rng& rng) {
+    GltfCase c;
+    c.doc = {{"asset", {{"version", "2.0"}}},
+             {"materials",
+              {{{"pbrMetallicRoughness", {{"baseColorFactor", {0.8, 0.5, 0.2, 1.0}}}}},
+               {{"emissiveFactor", {1.0, 1.0, 0.5}}}}}};
+    for (std::size_t m = 0, n = 1 + below(rng, 3); m < n; ++m) gltf_mesh(c, rng);
+    gltf_nodes(c, rng);
+    if (rng.uniform() < 0.7) c.doc["scenes"] = {{{"nodes", c.roots}}};  // else: every root node
+    c.container = int(below(rng, 3));
+    c.doc["buffers"] = {{{"byteLength", c.bin.size()}}};
+    if (c.container == 0) c.doc["buffers"][0]["uri"] = "case.bin";
+    if (c.placed == 0) c.expect = Expect::refuse, c.what = "no triangles";
+    if (rng.uniform() < 0.35 && c.placed > 0) make_gltf_hostile(c, rng);
+    return c;
+}
+
+std::string base64(const std::vector<std::uint8_t>& b) {
+    static const char* digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    std::string out;
+    for (std::size_t k = 0; k < b.size(); k += 3) {
+        const std::size_t left = std::min<std::size_t>(3, b.size() - k);
+        const std::uint32_t v = (std::uint32_t(b[k]) << 16) |
+                                (left > 1 ? std::uint32_t(b[k + 1]) << 8 : 0) |
+                                (left > 2 ? b[k + 2] : 0);
+        for (std::size_t d = 0; d < 4; ++d)
+            out += d <= left ? digits[(v >> (18 - 6 * d)) & 63] : '=';
+    }
+    return out;
+}
+
+/// Writes the case as a .gltf (with case.bin, or its buffer in base64) or a .glb; returns its path.
+std::string write_gltf_case(GltfCase c, const Scratch& scratch) {
+    if (c.container == 1 && c.doc["buffers"][0].find("uri") == c.doc["buffers"][0].end())
+        c.doc["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64(c.bin);
+    std::string json = c.doc.dump();
+    if (!c.deep.empty()) json.replace(json.find("\"@deep@\""), 8, c.deep);
+    if (c.container != 2) {
+        scratch.write("case.bin", std::string(c.bin.begin(), c.bin.end()));
+        return scratch.write("case.gltf", json);
+    }
+    while (json.size() % 4 != 0) json += ' ';
+    std::string glb;
+    auto word = [&](std::uint32_t w) {
+        for (int k = 0; k < 4; ++k) glb += char((w >> (8 * k)) & 0xFF);
+    };
+    word(0x46546C67u), word(2), word(std::uint32_t(12 + 8 + json.size() + 8 + c.bin.size()));
+    word(std::uint32_t(json.size())), word(0x4E4F534Au);
+    glb += json;
+    word(std::uint32_t(c.bin.size())), word(0x004E4942u);
+    glb.append(c.bin.begin(), c.bin.end());
+    return scratch.write("case.glb", glb);
+}
 }  // namespace
 
 TEST_CASE("OBJ/MTL generator: 300 hostile scenes load exactly as written or are refused") {
@@ -478,4 +738,34 @@ TEST_CASE("RRV generator: 300 hostile scenes place every triangle or are refused
     CHECK(over_budget > 10);
     MESSAGE("loaded " << loaded << ", refused " << refused << " (" << over_budget
                       << " for the triangle budget)");
+}
+
+TEST_CASE(
+    "glTF generator: 200 hostile scenes (.gltf, base64, .glb) give every triangle or are refused") {
+    Scratch scratch;
+    Rng rng(14);
+    int loaded = 0, refused = 0;
+    for (int k = 0; k < 200; ++k) {
+        const GltfCase c = random_gltf(rng);
+        CAPTURE(k);
+        CAPTURE(c.what);
+        CAPTURE(c.container);
+        try {
+            const GltfReadResult<Rgb> r = read_gltf_result<Rgb>(write_gltf_case(c, scratch));
+            check_loaded(r.scene);
+            CHECK(c.expect != Expect::refuse);
+            if (c.expect == Expect::load) {
+                CHECK(r.scene.faces.size() == c.placed);
+                CHECK(r.dropped_triangles == 0);
+            }
+            ++loaded;
+        } catch (const Error& e) {
+            CHECK_MESSAGE(c.expect != Expect::load, e.what());
+            CHECK(std::string(e.what()).find("case.") != std::string::npos);
+            ++refused;
+        }
+    }
+    CHECK(loaded > 80);
+    CHECK(refused > 30);
+    MESSAGE("loaded " << loaded << ", refused " << refused);
 }
