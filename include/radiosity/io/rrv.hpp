@@ -266,13 +266,14 @@ class RrvBodyReader {
         if (it == defs_.end()) throw Error(text_.where(n) + ": no objectdef named '" + name + "'");
         budget_.spend(it->second.size(), text_, n);
         for (const auto& t : it->second) {
+            const std::uint32_t m = material(t.colours);  // also for a dropped triangle, as before
             const std::vector<Vec3> placed{transforms.place(t.v[0]), transforms.place(t.v[1]),
                                            transforms.place(t.v[2])};
             const double area = polygon_area(placed);  // not finite if any corner is not
             if (!std::isfinite(area))
                 throw Error(text_.where(n) + ": object '" + name +
                             "' is placed beyond the range of numbers (a transform overflows)");
-            if (area > 0.0) builder_.face(placed, material(t.colours));
+            if (area > 0.0) builder_.face(placed, m);
         }
     }
 
