@@ -4,6 +4,7 @@
 
 #include <radiosity/mesh/patch_table.hpp>
 #include <radiosity/progress.hpp>
+#include <radiosity/solver/system.hpp>
 #include <radiosity/spectrum.hpp>
 
 #include <concepts>
@@ -54,6 +55,23 @@ template <class Mx>
 concept AssembledMatrix = requires(const Mx& m, std::size_t i, void (*f)(std::size_t, float)) {
     { m.size() } -> std::convertible_to<std::size_t>;
     m.for_each_in_row(i, f);
+};
+
+/// An assembled matrix whose rows are stored as contiguous floats: `m.row(i)` views the n
+/// entries F_i0 .. F_i(n-1). The sweeping solvers then gather with the vectorised dense kernel
+/// (detail/dense_dot.hpp) instead of visiting entries one at a time.
+template <class Mx>
+concept DenseRowMatrix = AssembledMatrix<Mx> && requires(const Mx& m, std::size_t i) {
+    { m.row(i) } -> std::convertible_to<std::span<const float>>;
+};
+
+/// A solver of the radiosity system (solver/system.hpp): `solver.solve(system, F, progress)`
+/// returns B and a Report. F is an assembled matrix (Jacobi, Gauss-Seidel, direct) or, for
+/// progressive shooting, any RowSource, so that rows can be computed on demand.
+template <class X, class S, class Mx>
+concept Solver = SpectrumType<S> &&
+    requires(const X& solver, const System<S>& system, const Mx& F, const ProgressCallback& p) {
+    { solver.solve(system, F, p) } -> std::same_as<Solution<S>>;
 };
 
 }  // namespace radiosity
