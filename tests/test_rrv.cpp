@@ -290,4 +290,22 @@ TEST_CASE("RRV scene size: a short file that places a large object many times is
                        "(RrvOptions::max_triangles)") != std::string::npos);
     o.max_triangles = 101 * 3752;
     CHECK(read_rrv<float>((scratch.dir / "pots.xml").string(), o).faces.size() > 99 * 3700);
+    // At the default limit (10 million), 3,000 placements of the teapot (11 million triangles,
+    // from a file of 130 KB) are refused after counting, before a triangle is placed.
+    std::string many;
+    for (int k = 0; k < 3000; ++k)
+        many += "<translate dx=\"" + std::to_string(k) + "\"><object name=\"pot\"/></translate>\n";
+    message.clear();
+    try {
+        read_rrv<float>(scratch.write("many.xml",
+                                      "<scene><head><objectdef name=\"pot\"><teapot/></objectdef>"
+                                      "</head><body>\n" +
+                                          many + "</body></scene>"),
+                        RrvOptions{.teapot_obj = rrv_dir + "/teapot.obj"});
+    } catch (const Error& e) {
+        message = e.what();
+    }
+    // The definition and 2,664 placements fit in 10 million; the 2,665th (line 2,666) does not.
+    CHECK(message.find("many.xml:2666: <object> makes the scene larger than 10000000") !=
+          std::string::npos);
 }

@@ -219,10 +219,11 @@ inline std::optional<RrvTransform> rrv_transform(const pugi::xml_node& n, const 
 
 /// Places the objects of an RRV body through its nested transforms into a scene. The nesting is
 /// walked with an explicit stack of elements (and one of transforms beside it), so its depth is
-/// bounded by RrvOptions::max_depth with a message, never by the call stack. A placed triangle
-/// whose corners or area are not finite (a transform overflowed) is refused naming its object;
-/// one of zero area,
-/// or whose corners the scene shares into fewer than three vertices (closer than 1e-6), is
+/// bounded by RrvOptions::max_depth with a message, never by the call stack. The walk is made
+/// twice: first to count the triangles the body places against RrvOptions::max_triangles
+/// (refused at once, before any is placed), then to place them. A placed triangle whose corners
+/// or area are not finite (a transform overflowed) is refused naming its object; one of zero
+/// area, or whose corners the scene shares into fewer than three vertices (closer than 1e-6), is
 /// dropped.
 template <SpectrumType S>
 class RrvBodyReader {
@@ -232,6 +233,17 @@ class RrvBodyReader {
         : text_(text), options_(options), defs_(defs), budget_(budget), builder_(text.path()) {}
 
     Scene<S> read(const pugi::xml_node& body) {
+        walk(body, [&](const pugi::xml_node& n, const RrvTransformStack&) {
+            budget_.spend(definition(n).size(), text_, n);
+        });
+        walk(body, [&](const pugi::xml_node& n, const RrvTransformStack& t) { place(n, t); });
+        return builder_.take();
+    }
+
+  private:
+    /// Calls visit(object, transforms) for every object of the body, in document order.
+    template <class Visit>
+    void walk(const pugi::xml_node& body, Visit&& visit) const {
         std::vector<pugi::xml_node> next{body.first_child()};  // per level: the next child
         RrvTransformStack transforms;                          // one per level below the body
         while (!next.empty()) {
@@ -251,27 +263,28 @@ class RrvBodyReader {
                 transforms.push(*t);
                 next.push_back(n.first_child());
             } else if (std::string(n.name()) == "object") {
-                place(n, transforms);
+                visit(n, transforms);
             } else {
                 throw Error(text_.where(n) + ": unknown element <" + n.name() + "> in the body");
             }
         }
-        return builder_.take();
     }
 
-  private:
-    void place(const pugi::xml_node& n, const RrvTransformStack& transforms) {
+    const std::vector<RrvTriangle>& definition(const pugi::xml_node& n) const {
         const std::string name = n.attribute("name").value();
         const auto it = defs_.find(name);
         if (it == defs_.end()) throw Error(text_.where(n) + ": no objectdef named '" + name + "'");
-        budget_.spend(it->second.size(), text_, n);
-        for (const auto& t : it->second) {
+        return it->second;
+    }
+
+    void place(const pugi::xml_node& n, const RrvTransformStack& transforms) {
+        for (const auto& t : definition(n)) {
             const std::uint32_t m = material(t.colours);  // also for a dropped triangle, as before
             const std::vector<Vec3> placed{transforms.place(t.v[0]), transforms.place(t.v[1]),
                                            transforms.place(t.v[2])};
             const double area = polygon_area(placed);  // not finite if any corner is not
             if (!std::isfinite(area))
-                throw Error(text_.where(n) + ": object '" + name +
+                throw Error(text_.where(n) + ": object '" + n.attribute("name").value() +
                             "' is placed beyond the range of numbers (a transform overflows)");
             if (area > 0.0) builder_.face(placed, m);
         }
