@@ -130,7 +130,8 @@ inline nlohmann::json gltf_document(const ShadedMesh& mesh, double exposure_scal
     }
     const std::size_t indices =
         b.accessor(index, index.size(), "SCALAR", gltf::element_array_buffer);
-    doc["materials"] = {material};
+    // json::array: a braced single json is copied, not wrapped, by clang (nlohmann/json README).
+    doc["materials"] = json::array({material});
     doc["meshes"] = {
         {{"primitives", {{{"attributes", attributes}, {"indices", indices}, {"material", 0}}}}}};
     doc["buffers"] = {{{"byteLength", bin.size()}}};
