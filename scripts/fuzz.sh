@@ -32,7 +32,7 @@ cmake -S . -B "$build" -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE=Debug \
 targets=("${tests[@]}")
 if [ $fuzzers = ON ]; then targets+=(fuzz_seeds "${readers[@]/#/fuzz_}"); fi
 cmake --build "$build" -j "$(nproc)" --target "${targets[@]}"
-# Left out until subdivide refuses self-intersecting polygons (issue 12's triangulation): the
+# Left out until the meshing refuses or triangulates such polygons (self-intersecting ones): the
 # OBJ mutations of this build reach tests/data/fuzz_subdivide_abort.obj, which aborts in
 # OpenMesh's add_face during subdivision (not in the reader, which reads it as written).
 known=(--test-case-exclude="OBJ/MTL reader: 3000 mutated*")
