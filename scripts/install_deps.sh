@@ -3,7 +3,7 @@
 set -euo pipefail
 packages=(cmake g++ make clang-format libopenmesh-dev libglm-dev libtinyobjloader-dev libstb-dev
           doctest-dev libbenchmark-dev nlohmann-json3-dev libpugixml-dev libcli11-dev
-          libtinyexr-dev libtinygltf-dev)
+          libtinyexr-dev libtinygltf-dev clang libclang-rt-14-dev)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

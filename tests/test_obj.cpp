@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <unistd.h>
 
 using namespace radiosity;
@@ -115,4 +116,59 @@ TEST_CASE("faces of 256 corners and more are read whole, and the faces after the
         scratch.write("bowtie.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 2 0\nf 1 2 5 3 4\n");
     CHECK(error_of(bad).find("bowtie.obj:6: face 0") != std::string::npos);
     CHECK(error_of(bad).find("intersects itself") != std::string::npos);
+}
+
+TEST_CASE("OBJ polygons of any number of corners: 256, 300 and 10,000 corners all read") {
+    // tinyobjloader keeps corner counts modulo 256: a 10,000-gon came back as a 16-gon sliver
+    // of area 7e-8, a 256-gon as a face of no corners.
+    Scratch scratch;
+    for (const std::size_t n : {255, 256, 300, 10000}) {
+        CAPTURE(n);
+        std::string text, face = "f";
+        for (std::size_t k = 0; k < n; ++k) {
+            const double a = 2.0 * std::numbers::pi * double(k) / double(n);
+            text += "v " + std::to_string(std::cos(a)) + " " + std::to_string(std::sin(a)) + " 0\n";
+            face += " " + std::to_string(k + 1);
+        }
+        // A triangle after the polygon keeps its own corners (the counts ran into each other).
+        text += "v 0 0 1\n" + face + "\nf 1 2 " + std::to_string(n + 1) + "\n";
+        const Scene<Rgb> s = read_obj<Rgb>(scratch.write("disk.obj", text));
+        REQUIRE(s.faces.size() == 2);
+        CHECK(s.faces[0].size() == n);
+        CHECK(s.faces[1] == std::vector<std::uint32_t>{0, 1, std::uint32_t(n)});
+        std::vector<Vec3> p;
+        for (auto v : s.faces[0]) p.push_back(s.positions[v]);
+        // A regular n-gon inscribed in the unit circle: n/2 sin(2 pi / n), to the 6 digits
+        // written.
+        const double exact = 0.5 * double(n) * std::sin(2.0 * std::numbers::pi / double(n));
+        CHECK(polygon_area(p) == doctest::Approx(exact).epsilon(1e-5));
+        CHECK(build_mesh(s).n_faces() == 2);
+    }
+}
+
+TEST_CASE("OBJ numbers that tinyobjloader would read as 0 are refused with file and line") {
+    Scratch scratch;
+    scratch.write("nan.mtl", "newmtl m\nKd nan 0.5 0.5\n");
+    scratch.write("short.mtl", "newmtl m\n\nKe 1\n");
+    const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    struct Bad {
+        std::string name, text, expect;
+    };
+    const std::vector<Bad> cases{
+        {"nan.obj", "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n",
+         "nan.obj:2: vertex coordinate 'nan' is not a finite number"},
+        {"short.obj", "v 0 0 0\r\nv 1 0\r\nv 0 1 0\r\nf 1 2 3\r\n",
+         "short.obj:2: vertex coordinate needs three numbers"},
+        {"float.obj", "v 0 0 0\rv 1e39 0 0\rv 0 1 0\rf 1 2 3\r",
+         "float.obj:2: vertex coordinate '1e39' is not a finite number"},
+        {"hex.obj", "v 0x10 0 0\n" + tri, "hex.obj:1: vertex coordinate '0x10'"},
+        {"kd.obj", "mtllib nan.mtl\nusemtl m\n" + tri,
+         "nan.mtl:2: Kd 'nan' is not a finite number"},
+        {"ke.obj", "mtllib short.mtl\nusemtl m\n" + tri, "short.mtl:3: Ke needs three numbers"},
+    };
+    for (const Bad& b : cases) {
+        CAPTURE(b.name);
+        const std::string message = error_of(scratch.write(b.name, b.text));
+        CHECK_MESSAGE(message.find(b.expect) != std::string::npos, message);
+    }
 }

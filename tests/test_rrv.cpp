@@ -186,3 +186,137 @@ TEST_CASE("bad RRV input: file and line") {
                  "<body><object name=\"a\"/></body></scene>")
             .find("not three numbers") != std::string::npos);
 }
+
+namespace {
+
+/// one_triangle inside n nested copies of the element open ... close.
+std::string nested(std::size_t n, const std::string& open, const std::string& close) {
+    std::string o, c;
+    for (std::size_t k = 0; k < n; ++k) {
+        o += open;
+        c += close;
+    }
+    return one_triangle(o, c);
+}
+
+}  // namespace
+
+TEST_CASE("RRV nesting: 256 levels are read exactly, 20,000 refused with file and line") {
+    Scratch scratch;
+    // 256 translations by 1/4 (exact in binary): the corner (1,0,0) lands at (65,0,0) exactly.
+    const auto s = read_rrv<float>(
+        scratch.write("deep.xml", nested(256, "<translate dx=\"0.25\">", "</translate>")));
+    CHECK(vertex(s, 1) == Vec3(65, 0, 0));
+    // Before the walk was iterative this crashed the program (one call per level).
+    std::string message;
+    try {
+        read_rrv<float>(
+            scratch.write("deeper.xml", nested(20000, "<translate dx=\"1\">\n", "</translate>")));
+    } catch (const Error& e) {
+        message = e.what();
+    }
+    CHECK(message.find("deeper.xml:257: <translate> is nested deeper than 256 transforms") !=
+          std::string::npos);
+    RrvOptions o;
+    o.max_depth = 20000;  // a raised limit reads it: one step per level and corner
+    CHECK(read_rrv<float>((scratch.dir / "deeper.xml").string(), o).faces.size() == 1);
+}
+
+TEST_CASE("RRV transforms that overflow are refused, zero and tiny scales drop the triangle") {
+    Scratch scratch;
+    auto error_of = [&](const std::string& text) {
+        try {
+            read_rrv<float>(scratch.write("t.xml", text));
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    CHECK(error_of(nested(2, "<scale dx=\"1e200\" dy=\"1e200\" dz=\"1\">", "</scale>"))
+              .find("t.xml:1: object 't' is placed beyond the range of numbers") !=
+          std::string::npos);
+    CHECK(error_of(nested(2, "<translate dx=\"1.7e308\">", "</translate>"))
+              .find("beyond the range of numbers") != std::string::npos);
+    CHECK(error_of(one_triangle("<scale dx=\"nan\" dy=\"1\" dz=\"1\">", "</scale>"))
+              .find("scale dx=\"nan\" is not a number") != std::string::npos);
+    // A zero scale flattens the triangle to no area; 1e-9 shrinks it below the 1e-6 at which
+    // the reader shares corners. Neither reaches the scene, which then places nothing.
+    for (const char* d : {"0", "1e-9"}) {
+        CAPTURE(d);
+        const std::string scale = std::string("<scale dx=\"") + d + "\" dy=\"1\" dz=\"1\">";
+        CHECK(error_of(one_triangle(scale, "</scale>")).find("places no triangles") !=
+              std::string::npos);
+    }
+    // Beside a triangle that stays, the scene loads and builds.
+    const std::string both =
+        one_triangle("<object name=\"t\"/><scale dx=\"1e-9\" dy=\"1e-9\" dz=\"1\">", "</scale>");
+    const auto s = read_rrv<float>(scratch.write("both.xml", both));
+    CHECK(s.faces.size() == 1);
+    CHECK(build_mesh(s).n_faces() == 1);
+}
+
+TEST_CASE("RRV rotations: huge angles and axes of extreme length stay exact rotations") {
+    Scratch scratch;
+    auto corner = [&](const std::string& rotate) {
+        return vertex(read_rrv<float>(scratch.write("r.xml", one_triangle(rotate, "</rotate>"))),
+                      1);
+    };
+    // 90 + 360 * 10^12 degrees is 90 degrees (fmod is exact); about z: (1,0,0) -> (0,1,0).
+    CHECK(glm::distance(corner("<rotate angle=\"360000000000090\" dz=\"1\">"), Vec3(0, 1, 0)) <
+          1e-12);
+    // An angle of 1e308 degrees stays finite (it was infinite in radians, then NaN).
+    const Vec3 far = corner("<rotate angle=\"1e308\" dx=\"1\" dy=\"1\">");
+    CHECK(std::isfinite(far.x + far.y + far.z));
+    CHECK(glm::length(far) == doctest::Approx(1.0));
+    // An axis of length 1e-200 or 1e200 is the same axis as one of length 1.
+    const Vec3 unit = corner("<rotate angle=\"30\" dx=\"1\" dy=\"2\" dz=\"3\">");
+    for (const char* axis :
+         {"dx=\"1e-200\" dy=\"2e-200\" dz=\"3e-200\"", "dx=\"1e200\" dy=\"2e200\" dz=\"3e200\""}) {
+        CAPTURE(axis);
+        CHECK(glm::distance(corner(std::string("<rotate angle=\"30\" ") + axis + ">"), unit) <
+              1e-12);
+    }
+}
+
+TEST_CASE("RRV scene size: a short file that places a large object many times is refused") {
+    Scratch scratch;
+    std::string body;
+    for (int k = 0; k < 100; ++k)
+        body +=
+            "<translate dx=\"" + std::to_string(k) + "\">" + "<object name=\"pot\"/></translate>";
+    const std::string text =
+        "<scene><head><objectdef name=\"pot\"><teapot/></objectdef></head>"
+        "<body>" +
+        body + "</body></scene>";
+    RrvOptions o;
+    o.teapot_obj = rrv_dir + "/teapot.obj";
+    o.max_triangles = 50 * 3752;  // room for the definition and 49 placements
+    std::string message;
+    try {
+        read_rrv<float>(scratch.write("pots.xml", text), o);
+    } catch (const Error& e) {
+        message = e.what();
+    }
+    CHECK(message.find("pots.xml:1: <object> makes the scene larger than 187600 triangles "
+                       "(RrvOptions::max_triangles)") != std::string::npos);
+    o.max_triangles = 101 * 3752;
+    CHECK(read_rrv<float>((scratch.dir / "pots.xml").string(), o).faces.size() > 99 * 3700);
+    // At the default limit (10 million), 3,000 placements of the teapot (11 million triangles,
+    // from a file of 130 KB) are refused after counting, before a triangle is placed.
+    std::string many;
+    for (int k = 0; k < 3000; ++k)
+        many += "<translate dx=\"" + std::to_string(k) + "\"><object name=\"pot\"/></translate>\n";
+    message.clear();
+    try {
+        read_rrv<float>(scratch.write("many.xml",
+                                      "<scene><head><objectdef name=\"pot\"><teapot/></objectdef>"
+                                      "</head><body>\n" +
+                                          many + "</body></scene>"),
+                        RrvOptions{.teapot_obj = rrv_dir + "/teapot.obj"});
+    } catch (const Error& e) {
+        message = e.what();
+    }
+    // The definition and 2,664 placements fit in 10 million; the 2,665th (line 2,666) does not.
+    CHECK(message.find("many.xml:2666: <object> makes the scene larger than 10000000") !=
+          std::string::npos);
+}

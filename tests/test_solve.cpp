@@ -143,7 +143,9 @@ TEST_CASE("Cornell box: ray-cast and hemicube agree within 2% in mean radiosity 
     o.form_factor = FormFactorKind::ray_cast;
     const auto by_rays = wall_means(solve(scene, o));
     REQUIRE(by_rays.size() == 8);
-    for (const auto& [wall, b] : by_hemicube) {
+    for (const auto& entry : by_hemicube) {
+        const std::string& wall = entry.first;  // no binding: CAPTURE's lambda needs a variable
+        const double b = entry.second;
         CAPTURE(wall);
         CHECK(std::abs(by_rays.at(wall) - b) <= 0.02 * b);
     }

@@ -6,12 +6,12 @@
 #include <radiosity/error.hpp>
 #include <radiosity/mesh/mesh.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <map>
 #include <numbers>
 #include <string>
-#include <tuple>
 #include <vector>
 
 namespace radiosity {
@@ -19,7 +19,7 @@ namespace radiosity {
 namespace detail {
 
 /// Builds a Scene from polygons, sharing a vertex index between equal points (to 1e-6), so
-/// that faces that meet along an edge are connected in the mesh.
+/// that faces that meet along an edge are connected in the mesh. Cost: O(log n) per corner.
 template <SpectrumType S>
 class SceneBuilder {
   public:
@@ -30,11 +30,22 @@ class SceneBuilder {
         return static_cast<std::uint32_t>(scene_.materials.size() - 1);
     }
 
-    void face(const std::vector<Vec3>& polygon, std::uint32_t material) {
+    /// Adds a polygon of finite points; returns false, adding nothing, if sharing its corners
+    /// leaves fewer than three distinct vertices or repeats one (a face smaller than the 1e-6
+    /// tolerance, which has no area to exchange light).
+    bool face(const std::vector<Vec3>& polygon, std::uint32_t material) {
+        std::vector<Key> keys;
+        for (const Vec3& p : polygon) keys.push_back(key(p));
+        for (std::size_t k = 0; k < keys.size(); ++k)
+            if (std::find(keys.begin(), keys.begin() + std::ptrdiff_t(k), keys[k]) !=
+                keys.begin() + std::ptrdiff_t(k))
+                return false;
+        if (keys.size() < 3) return false;
         std::vector<std::uint32_t> f;
-        for (const Vec3& p : polygon) f.push_back(vertex(p));
+        for (std::size_t k = 0; k < keys.size(); ++k) f.push_back(vertex(keys[k], polygon[k]));
         scene_.faces.push_back(f);
         scene_.face_material.push_back(material);
+        return true;
     }
 
     /// A quadrilateral a b c d (a to b is the s direction, a to d the t direction) cut into a
@@ -59,9 +70,14 @@ class SceneBuilder {
     Scene<S> take() { return std::move(scene_); }
 
   private:
-    std::uint32_t vertex(const Vec3& p) {
-        const auto key = std::make_tuple(std::llround(p.x * 1e6), std::llround(p.y * 1e6),
-                                         std::llround(p.z * 1e6));
+    /// A point rounded to 1e-6, held as doubles so that no coordinate is out of a key's range
+    /// (beyond 2^53 a double is its own rounding). The points are finite: NaN has no order.
+    using Key = std::array<double, 3>;
+    static Key key(const Vec3& p) {
+        return {std::round(p.x * 1e6), std::round(p.y * 1e6), std::round(p.z * 1e6)};
+    }
+
+    std::uint32_t vertex(const Key& key, const Vec3& p) {
         auto [it, fresh] =
             index_.try_emplace(key, static_cast<std::uint32_t>(scene_.positions.size()));
         if (fresh) scene_.positions.push_back(p);
@@ -69,7 +85,7 @@ class SceneBuilder {
     }
 
     Scene<S> scene_;
-    std::map<std::tuple<long long, long long, long long>, std::uint32_t> index_;
+    std::map<Key, std::uint32_t> index_;
 };
 
 }  // namespace detail

@@ -473,7 +473,8 @@ class SubdivisionBuilder {
     /// the sides come from edge_point, so neighbours share them.
     void quad(std::size_t f) {
         const auto& v = w_.face[f];
-        const auto [k1, k2] = e_.grid[f];
+        // Named, not bound: clang 14 cannot capture structured bindings in the lambdas below.
+        const std::size_t k1 = e_.grid[f][0], k2 = e_.grid[f][1];
         std::vector<VH> grid((k1 + 1) * (k2 + 1));
         auto at = [&](std::size_t a, std::size_t b) -> VH& { return grid[b * (k1 + 1) + a]; };
         for (std::size_t b = 0; b <= k2; ++b)
