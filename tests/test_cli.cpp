@@ -161,7 +161,7 @@ TEST_CASE("a self-intersecting face is a one-line error naming the file, line an
     check_one_line_error("'" + data("cli_self_intersecting.obj") + "'", "intersects itself");
 }
 
-TEST_CASE("an L-shaped floor: its patches cover area 3, none in its notch; a sliver reported") {
+TEST_CASE("an L-shaped floor: its patches cover area 3, none in its notch, a sliver reported") {
     const Run r = run("'" + data("cli_l_room.obj") + "' --max-edge 0.25 --dump-patches '" +
                       out("l_room.csv") + "'");
     REQUIRE_MESSAGE(r.status == 0, r.err);
