@@ -13,6 +13,7 @@
 #include <radiosity/io/rrv.hpp>
 
 #include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
 
 #include <cstdio>
 #include <filesystem>
