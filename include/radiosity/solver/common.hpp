@@ -180,9 +180,10 @@ inline double convergence_fraction(double first, double now, double tolerance) {
 /// The loop shared by the sweeping solvers: calls sweep() (which returns the largest change of
 /// B, absolute) until the change relative to max E is within the tolerance, the iteration cap
 /// is reached or the progress callback cancels; fills iterations, residual (the last relative
-/// change), converged and cancelled.
-template <class Sweep>
-void sweep_until(Report& report, Sweep&& sweep, double scale, double tolerance,
+/// change), converged and cancelled. values() gives the current B (interleaved, as to_doubles)
+/// for the callback's Progress::radiosity; it is called only when there is a callback.
+template <class Sweep, class Values>
+void sweep_until(Report& report, Sweep&& sweep, Values&& values, double scale, double tolerance,
                  std::size_t max_iterations, const ProgressCallback& progress) {
     double first = -1.0;
     while (report.iterations < max_iterations) {
@@ -194,8 +195,12 @@ void sweep_until(Report& report, Sweep&& sweep, double scale, double tolerance,
             report.converged = true;
             return;
         }
-        if (!detail::report(progress, "solve", convergence_fraction(first, change, tolerance),
-                            change)) {
+        if (progress &&
+            !progress(Progress{.phase = "solve",
+                               .fraction = convergence_fraction(first, change, tolerance),
+                               .residual = change,
+                               .iteration = report.iterations,
+                               .radiosity = values()})) {
             report.cancelled = true;
             return;
         }

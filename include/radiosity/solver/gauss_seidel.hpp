@@ -52,11 +52,16 @@ class GaussSeidel {
             std::vector<double> outside(B.size());
             detail::sweep_until(
                 report, [&] { return sweep_dense<K>(F, E, R, b, outside); },
+                [&] {  // B is band-major during the sweeps: interleave it for the observer
+                    b.copy_to(B);
+                    return std::span<const double>(B);
+                },
                 detail::emission_scale(E), options_.tolerance, options_.max_iterations, progress);
             b.copy_to(B);
         } else {
             detail::sweep_until(
-                report, [&] { return sweep<K>(F, E, R, B); }, detail::emission_scale(E),
+                report, [&] { return sweep<K>(F, E, R, B); },
+                [&] { return std::span<const double>(B); }, detail::emission_scale(E),
                 options_.tolerance, options_.max_iterations, progress);
         }
         report.residual = detail::relative_residual<K>(F, E, R, B);

@@ -45,7 +45,8 @@ class Jacobi {
                 B.swap(next);
                 return change;
             },
-            detail::emission_scale(E), options_.tolerance, options_.max_iterations, progress);
+            [&] { return std::span<const double>(B); }, detail::emission_scale(E),
+            options_.tolerance, options_.max_iterations, progress);
         report.seconds = clock.seconds();
         return {detail::from_doubles<S>(B), report};
     }

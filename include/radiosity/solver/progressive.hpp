@@ -26,7 +26,9 @@ struct ProgressiveOptions {
     std::size_t max_iterations = 0;  ///< guard on the number of shots; 0: 100 n (at least 1000)
     std::size_t row_cache_bytes = std::size_t(256) << 20;  ///< rows kept for patches that shoot
                                                            ///< again (0: none)
-    bool ambient = false;  ///< add the ambient term to the returned B (for early stops)
+    bool ambient = false;          ///< add the ambient term to the returned B (for early stops)
+    std::size_t report_every = 0;  ///< shots between progress reports (and exact re-sums of the
+                                   ///< unshot power); 0: n / 100
 };
 
 /// The ambient term (Cohen et al. 1988): the unshot radiosity spread evenly over the scene and
@@ -90,7 +92,8 @@ class Progressive {
         const std::size_t cap = options_.max_iterations > 0 ? options_.max_iterations
                                                             : std::max<std::size_t>(1000, 100 * n);
         RowCache cache(n, options_.row_cache_bytes);
-        const std::size_t report_every = std::max<std::size_t>(1, n / 100);
+        const std::size_t report_every =
+            options_.report_every > 0 ? options_.report_every : std::max<std::size_t>(1, n / 100);
         double left = emitted;  // unshot power, kept up to date shot by shot
         while (report.residual > options_.tolerance && report.iterations < cap) {
             const std::size_t j = brightest<K>(unshot, system.area);
@@ -100,10 +103,14 @@ class Progressive {
             const bool due = report.iterations % report_every == 0;
             if (due) left = power<K>(unshot, system.area);  // exact again: no drift
             report.residual = std::max(left, 0.0) / emitted;
-            if (due && !detail::report(
-                           progress, "solve",
-                           detail::convergence_fraction(1.0, report.residual, options_.tolerance),
-                           report.residual)) {
+            if (due &&
+                !detail::report(progress, Progress{.phase = "solve",
+                                                   .fraction = detail::convergence_fraction(
+                                                       1.0, report.residual, options_.tolerance),
+                                                   .residual = report.residual,
+                                                   .iteration = report.iterations,
+                                                   .radiosity = B,
+                                                   .unshot = unshot})) {
                 report.cancelled = true;
                 break;
             }
