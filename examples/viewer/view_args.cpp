@@ -1,0 +1,115 @@
+// The viewer's command line (view_args.hpp).
+#include "view_args.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <regex>
+
+namespace radiosity::view {
+
+namespace {
+/// "X,Y" as two non-negative integers.
+std::optional<std::array<int, 2>> parse_pixel(const std::string& s) {
+    static const std::regex pixel(R"(\s*(\d{1,5})\s*,\s*(\d{1,5})\s*)");
+    std::smatch m;
+    if (!std::regex_match(s, m, pixel)) return std::nullopt;
+    return std::array<int, 2>{std::stoi(m[1]), std::stoi(m[2])};
+}
+}  // namespace
+
+std::optional<int> parse_view_args(int argc, char** argv, ViewArgs& a) {
+    CLI::App app{
+        "radiosity-view: watch the radiosity method at work. Opens a window on the scene, "
+        "solves it on a worker thread and shows the light as it spreads; a click on a patch "
+        "shows its form-factor row and its hemicube. With --screenshot or --pick it draws "
+        "off screen and exits.",
+        "radiosity-view"};
+    app.failure_message(CLI::FailureMessage::simple);
+    a.scene.solver = "progressive";  // the solver to watch (the program's default: gauss-seidel)
+    radiosity::cli::add_scene_options(app, a.scene);
+    auto* picture = app.add_option_group("Picture", "what the view shows, and from where");
+    std::vector<std::string> picks;
+    auto* width = picture->add_option("--width", a.width, "picture width (--screenshot, --pick)")
+                      ->check(CLI::Range(1, 16384))
+                      ->capture_default_str();
+    auto* height =
+        picture->add_option("--height", a.height, "picture height (--screenshot, --pick)")
+            ->check(CLI::Range(1, 16384))
+            ->capture_default_str();
+    picture->add_option("--exposure", a.exposure, "exposure compensation in stops")
+        ->check(CLI::Range(-64.0, 64.0))
+        ->capture_default_str();
+    bool flat = false;
+    picture->add_flag("--flat", flat, "start in flat shading (as --mode flat)");
+    picture
+        ->add_option("--mode", a.mode,
+                     "what the surfaces show: wireframe (the patches' edges over flat shading), "
+                     "flat, smooth, reflectance or emission (keys 1 to 5)")
+        ->check(CLI::IsMember({"wireframe", "flat", "smooth", "reflectance", "emission"}))
+        ->capture_default_str();
+    radiosity::cli::add_camera_options(*picture, a.camera);
+    auto* headless = app.add_option_group("Headless", "pictures and numbers without a window");
+    headless->add_option("--screenshot", a.screenshot,
+                         "after the solve, draw one frame into this PNG and exit");
+    headless
+        ->add_option("--pick", picks,
+                     "print the patch seen at pixel X,Y (row 0 at the top) and its form-factor "
+                     "row's numbers, then exit (repeatable; with --screenshot, the last pick's "
+                     "row is shown)")
+        ->type_name("X,Y");
+    headless->add_flag("--ui", a.ui, "draw the panels into the screenshot too");
+    auto* live = app.add_option_group("Live solve", "how the solve is shown as it goes");
+    live->add_flag("--ambient", a.ambient,
+                   "add shooting's ambient term to B, for the light not yet shot (key T)");
+    live->add_option("--stop-after", a.stop_after,
+                     "pause the solve after this many shots (or sweeps); with --screenshot, the "
+                     "picture shows that moment");
+    live->add_option("--batch", a.batch, "shots between picture updates (default: n / 100)")
+        ->check(CLI::PositiveNumber);
+    live->add_flag("--paused", a.paused, "start with the solve paused (space resumes, N steps)");
+    app.add_flag("--quiet", a.quiet, "no progress on stderr");
+    if (auto status = radiosity::cli::parse(app, argc, argv)) return status;
+    a.size_given = width->count() > 0 || height->count() > 0;
+    if (flat) a.mode = "flat";
+    for (const std::string& p : picks) {
+        const auto xy = parse_pixel(p);
+        if (!xy) {
+            std::fprintf(stderr, "radiosity-view: error: --pick: '%s' is not X,Y (see --help)\n",
+                         p.c_str());
+            return 2;
+        }
+        if ((*xy)[0] >= a.width || (*xy)[1] >= a.height) {
+            std::fprintf(stderr,
+                         "radiosity-view: error: --pick: pixel %s lies outside the %d x %d "
+                         "picture (see --help)\n",
+                         p.c_str(), a.width, a.height);
+            return 2;
+        }
+        a.picks.push_back(*xy);
+    }
+    if (!a.screenshot.empty() && std::filesystem::path(a.screenshot).extension() != ".png") {
+        std::fprintf(stderr,
+                     "radiosity-view: error: --screenshot writes a PNG: '%s' (see --help)\n",
+                     a.screenshot.c_str());
+        return 2;
+    }
+    if (a.ui && a.screenshot.empty()) {
+        std::fprintf(stderr, "radiosity-view: error: --ui needs --screenshot (see --help)\n");
+        return 2;
+    }
+    return std::nullopt;
+}
+
+radiosity::SolverKind chosen_solver(const ViewArgs& a) {
+    return radiosity::parse_solver_kind(a.scene.solver);
+}
+
+ViewSettings initial_settings(const ViewArgs& a) {
+    ViewSettings s;
+    s.mode = parse_mode(a.mode).value_or(Mode::smooth);
+    s.ambient = a.ambient;
+    s.stops = a.exposure;
+    return s;
+}
+
+}  // namespace radiosity::view
