@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cstdio>
 #include <future>
+#include <limits>
 #include <memory>
 
 namespace radiosity::view {
@@ -24,6 +25,17 @@ namespace radiosity::view {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+/// The centre of the patches' bounding box.
+glm::dvec3 centre(const Patches& patches) {
+    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (std::size_t i = 0; i < patches.size(); ++i)
+        for (const auto& p : patches.table().polygon(i)) {
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+    return 0.5 * (lo + hi);
+}
 
 /// The viewer's state and its frame loop.
 class App {
@@ -35,7 +47,7 @@ class App {
           ui_(window_.handle()),
           worker_(patches),
           view_(patches),
-          camera_(home),
+          camera_(home, centre(patches)),
           settings_(initial_settings(a)),
           solve_panel_(worker_),
           patch_panel_(patches) {
@@ -125,30 +137,39 @@ class App {
     }
 
     void handle_keys() {
-        if (ImGui::GetIO().WantCaptureKeyboard) return;
-        for (std::size_t k = 0; k < all_modes.size(); ++k)
-            if (ImGui::IsKeyPressed(GLFW_KEY_1 + int(k), false)) set(settings_.mode, all_modes[k]);
-        if (ImGui::IsKeyPressed(GLFW_KEY_G, false)) set(settings_.edges, !settings_.edges);
-        if (ImGui::IsKeyPressed(GLFW_KEY_T, false)) set(settings_.ambient, !settings_.ambient);
-        if (ImGui::IsKeyPressed(GLFW_KEY_LEFT_BRACKET)) set(settings_.stops, settings_.stops - 0.5);
-        if (ImGui::IsKeyPressed(GLFW_KEY_RIGHT_BRACKET))
-            set(settings_.stops, settings_.stops + 0.5);
-        if (ImGui::IsKeyPressed(GLFW_KEY_C, false))
-            camera_.set_mode(camera_.mode() == CameraMode::orbit ? CameraMode::fly
-                                                                 : CameraMode::orbit);
-        if (ImGui::IsKeyPressed(GLFW_KEY_H, false)) {
-            camera_.reset();
-            changed();
+        const std::vector<int> presses = window_.take_key_presses();
+        if (ImGui::GetIO().WantCaptureKeyboard) return;  // typing into a panel
+        for (const int key : presses) handle_key(key);
+    }
+
+    void handle_key(int key) {
+        if (key >= GLFW_KEY_1 && key < GLFW_KEY_1 + int(all_modes.size()))
+            return set(settings_.mode, all_modes[std::size_t(key - GLFW_KEY_1)]);
+        switch (key) {
+            case GLFW_KEY_G:
+                return set(settings_.edges, !settings_.edges);
+            case GLFW_KEY_T:
+                return set(settings_.ambient, !settings_.ambient);
+            case GLFW_KEY_LEFT_BRACKET:
+                return set(settings_.stops, settings_.stops - 0.5);
+            case GLFW_KEY_RIGHT_BRACKET:
+                return set(settings_.stops, settings_.stops + 0.5);
+            case GLFW_KEY_C:
+                return camera_.set_mode(camera_.mode() == CameraMode::orbit ? CameraMode::fly
+                                                                            : CameraMode::orbit);
+            case GLFW_KEY_H:
+                camera_.reset();
+                return changed();
+            case GLFW_KEY_SPACE:
+                if (worker_.status().state == SolveState::paused) return worker_.resume();
+                return worker_.pause();
+            case GLFW_KEY_N:
+                return worker_.step();
+            case GLFW_KEY_ESCAPE:
+                return unpick();
+            default:
+                return;
         }
-        if (ImGui::IsKeyPressed(GLFW_KEY_SPACE, false)) {
-            const SolveState s = worker_.status().state;
-            if (s == SolveState::paused)
-                worker_.resume();
-            else
-                worker_.pause();
-        }
-        if (ImGui::IsKeyPressed(GLFW_KEY_N)) worker_.step();
-        if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false)) unpick();
     }
 
     template <class T>
@@ -171,8 +192,8 @@ class App {
             in.pan = delta;
         if (!io.WantCaptureMouse) in.wheel = io.MouseWheel;
         if (camera_.mode() == CameraMode::fly && !io.WantCaptureKeyboard) {
-            auto axis = [](int minus, int plus) {
-                return (ImGui::IsKeyDown(plus) ? 1.0 : 0.0) - (ImGui::IsKeyDown(minus) ? 1.0 : 0.0);
+            auto axis = [this](int minus, int plus) {
+                return (window_.key_down(plus) ? 1.0 : 0.0) - (window_.key_down(minus) ? 1.0 : 0.0);
             };
             in.move = {axis(GLFW_KEY_A, GLFW_KEY_D), axis(GLFW_KEY_Q, GLFW_KEY_E),
                        axis(GLFW_KEY_S, GLFW_KEY_W)};

@@ -19,9 +19,18 @@ glm::dvec3 rotate(const glm::dvec3& v, const glm::dvec3& axis, double angle) {
 }
 }  // namespace
 
-CameraControl::CameraControl(const radiosity::Camera& home)
-    : home_(home), camera_(home), up_(glm::normalize(home.up)) {
+CameraControl::CameraControl(const radiosity::Camera& home, const glm::dvec3& scene_centre)
+    : home_(home), camera_(home), centre_(scene_centre), up_(glm::normalize(home.up)) {
     speed_ = 0.5 * glm::length(home.target - home.eye);
+}
+
+void CameraControl::pivot_on_centre() {
+    // The view does not change: the target only slides along the line of sight.
+    if (pivoted_) return;
+    pivoted_ = true;
+    const glm::dvec3 forward = glm::normalize(camera_.target - camera_.eye);
+    const double along = glm::dot(centre_ - camera_.eye, forward);
+    if (along > 0.0) camera_.target = camera_.eye + along * forward;
 }
 
 void CameraControl::turn(glm::dvec3 pivot, bool about_target, glm::dvec2 pixels) {
@@ -41,6 +50,8 @@ void CameraControl::turn(glm::dvec3 pivot, bool about_target, glm::dvec2 pixels)
 
 bool CameraControl::update(const CameraInput& in) {
     bool moved = false;
+    if (mode_ == CameraMode::orbit && (in.drag != glm::dvec2(0.0) || in.wheel != 0.0))
+        pivot_on_centre();
     const glm::dvec3 view = camera_.target - camera_.eye;
     const double distance = glm::length(view);
     if (in.drag != glm::dvec2(0.0)) {

@@ -28,24 +28,34 @@ struct CameraInput {
 /// The camera and how the input moves it.
 class CameraControl {
   public:
-    /// Starts at `home`, in orbit mode about its target.
-    explicit CameraControl(const radiosity::Camera& home);
+    /// Starts at `home`, in orbit mode. Orbits turn about the point of the line of sight
+    /// nearest the scene's centre (the Cornell camera's target is the box's open front; turning
+    /// about it would swing the box out of view), or about the target if that point lies behind
+    /// the eye.
+    CameraControl(const radiosity::Camera& home, const glm::dvec3& scene_centre);
 
-    const radiosity::Camera& camera() const { return camera_; }        ///< where it is now
-    CameraMode mode() const { return mode_; }                          ///< orbit or fly
-    void set_mode(CameraMode mode) { mode_ = mode; }                   ///< keeps the view
-    void reset() { camera_ = home_; }                                  ///< back to the start
+    const radiosity::Camera& camera() const { return camera_; }  ///< where it is now
+    CameraMode mode() const { return mode_; }                    ///< orbit or fly
+    void set_mode(CameraMode mode) { mode_ = mode; }             ///< keeps the view
+    /// Back to the start.
+    void reset() {
+        camera_ = home_;
+        pivoted_ = false;
+    }
     void set_fov(double degrees) { camera_.fov_y_degrees = degrees; }  ///< vertical angle
     /// Applies one frame of input; returns whether the camera moved.
     bool update(const CameraInput& in);
 
   private:
     void turn(glm::dvec3 pivot, bool about_target, glm::dvec2 pixels);
+    void pivot_on_centre();
 
     radiosity::Camera home_, camera_;
     CameraMode mode_ = CameraMode::orbit;
-    glm::dvec3 up_;  // the world's up: turns keep it up
-    double speed_;   // fly speed, scene units per second
+    glm::dvec3 centre_;
+    bool pivoted_ = false;  // the target slid onto the orbit's pivot
+    glm::dvec3 up_;         // the world's up: turns keep it up
+    double speed_;          // fly speed, scene units per second
 };
 
 }  // namespace radiosity::view

@@ -74,7 +74,7 @@ std::optional<FormFactorRow> print_picks(const ViewArgs& a, const Patches& patch
 void draw_panels(const ViewArgs& a, const Patches& patches, SceneView& view, SolveWorker& worker,
                  const Window& window, ViewSettings& s, const radiosity::Camera& camera) {
     Ui ui(window.handle());
-    CameraControl control(camera);
+    CameraControl control(camera, camera.target);  // the panel only shows it
     SolvePanel solve_panel(worker);
     PatchPanel patch_panel(patches);
     if (view.row()) patch_panel.pick(*view.row(), view.light_colours(s));
@@ -110,7 +110,8 @@ int run_headless(const ViewArgs& a, const Patches& patches, const radiosity::Cam
     view.set_solution(*worker.snapshot_after(0));
     ViewSettings s = initial_settings(a);
     if (!a.picks.empty()) {
-        view.draw(camera, s, a.width, a.height, false);  // which patch a pixel sees: any exposure
+        // Which patch each pixel sees; the light's exposure is measured before the row hides it.
+        view.draw(camera, s, a.width, a.height, true);
         if (auto row = print_picks(a, patches, view, worker)) view.set_row(std::move(row));
     }
     if (!a.screenshot.empty()) {

@@ -174,9 +174,12 @@ bool SolvePanel::draw(ViewSettings& settings) {
                          ImVec2(300, 90));
     }
     if (st.state == SolveState::done || st.state == SolveState::cancelled) {
-        ImGui::Text("%s in %.2f s (form factors %.2f s)",
-                    st.report.converged ? "converged" : "NOT converged", st.report.seconds,
-                    st.form_factor_seconds);
+        ImGui::Text("%s in %.2f s", st.report.converged ? "converged" : "NOT converged",
+                    st.report.seconds);
+        if (!shooting) {
+            ImGui::SameLine();
+            ImGui::Text("(form factors %.2f s)", st.form_factor_seconds);
+        }
     }
     if (st.state == SolveState::failed) ImGui::TextWrapped("error: %s", st.error.c_str());
     ImGui::End();
@@ -214,7 +217,8 @@ bool PatchPanel::draw(ViewSettings& settings, bool computing_column) {
     const auto& t = patches_.table();
     const std::size_t i = r.patch;
     bool open = true;
-    ImGui::SetNextWindowPos(ImVec2(ImGui::GetIO().DisplaySize.x - 350, 10), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowPos(ImVec2(ImGui::GetIO().DisplaySize.x - 10, 10), ImGuiCond_FirstUseEver,
+                            ImVec2(1.0f, 0.0f));  // against the right edge
     ImGui::Begin("Patch", &open, ImGuiWindowFlags_AlwaysAutoResize);
     ImGui::Text("patch %zu of %zu, area %.4g", i, patches_.size(), t.area(i));
     ImGui::Text("centre (%.4g, %.4g, %.4g), normal (%.3f, %.3f, %.3f)", t.centroid(i).x,

@@ -41,6 +41,9 @@ Window::Window(int width, int height, const std::string& title, bool visible) {
         glfwTerminate();
         throw WindowError(message);
     }
+    // Installed before the panels' backend, which calls it on from its own callback.
+    glfwSetWindowUserPointer(window_, this);
+    glfwSetKeyCallback(window_, on_key);
     glfwMakeContextCurrent(window_);
     if (visible) glfwSwapInterval(1);
     gl::check("creating the context");
@@ -74,6 +77,20 @@ std::pair<int, int> Window::framebuffer_size() const {
     int w = 0, h = 0;
     glfwGetFramebufferSize(window_, &w, &h);
     return {w, h};
+}
+
+void Window::on_key(GLFWwindow* window, int key, int, int action, int) {
+    auto* self = static_cast<Window*>(glfwGetWindowUserPointer(window));
+    if (self != nullptr && (action == GLFW_PRESS || action == GLFW_REPEAT))
+        self->presses_.push_back(key);
+}
+
+std::vector<int> Window::take_key_presses() {
+    return std::exchange(presses_, {});
+}
+
+bool Window::key_down(int key) const {
+    return glfwGetKey(window_, key) == GLFW_PRESS;
 }
 
 std::string Window::renderer() const {

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <vector>
 
 struct GLFWwindow;
 
@@ -36,9 +37,17 @@ class Window {
     std::pair<int, int> framebuffer_size() const;  ///< drawable size in pixels
     /// The OpenGL renderer and version strings, for messages.
     std::string renderer() const;
+    /// The keys pressed (or repeated) since the last call, in order (GLFW key codes). Kept from
+    /// GLFW's callback, so that a press shorter than a frame is not lost.
+    std::vector<int> take_key_presses();
+    /// Whether the key is held down now.
+    bool key_down(int key) const;
 
   private:
+    static void on_key(GLFWwindow* window, int key, int scancode, int action, int mods);
+
     GLFWwindow* window_ = nullptr;
+    std::vector<int> presses_;
 };
 
 }  // namespace radiosity::view
