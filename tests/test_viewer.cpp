@@ -77,12 +77,13 @@ std::string slurp(const std::string& file) {
     return s.str();
 }
 
-/// Runs the viewer (at most two minutes) with the arguments; env: variables to set or unset
-/// first (`env -u DISPLAY`).
-Run run(const std::string& args, const std::string& env = "") {
+/// Runs the viewer with the arguments, stopped after `seconds` (status 124 then); env:
+/// variables to set or unset first (`env -u DISPLAY`).
+Run run(const std::string& args, const std::string& env = "", int seconds = 120) {
     const std::string out = path("stdout.txt"), err = path("stderr.txt");
-    const std::string cmd = env + " timeout 120 '" + std::string(RADIOSITY_VIEW) + "' " + args +
-                            " > '" + out + "' 2> '" + err + "'";
+    const std::string cmd = env + " timeout " + std::to_string(seconds) + " '" +
+                            std::string(RADIOSITY_VIEW) + "' " + args + " > '" + out + "' 2> '" +
+                            err + "'";
     const int raw = std::system(cmd.c_str());
     Run r;
     r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
@@ -451,6 +452,14 @@ TEST_CASE("--ui draws the panels over the picture") {
     for (int y = 15; y < 100; ++y)
         for (int x = 15; x < 200; ++x) changed += largest_difference(plain, ui, x, y) > 16;
     CHECK(changed > 185 * 85 / 2);
+}
+
+TEST_CASE("the window opens and keeps drawing while the solve runs, until it is closed") {
+    // Stopped from outside after a few seconds: still running then (status 124), no error.
+    const Run r = run(" cornell --max-edge 60", "", 6);
+    CHECK(r.status == 124);
+    CHECK(r.err.find("patches;") != std::string::npos);
+    CHECK(r.err.find("error") == std::string::npos);
 }
 
 TEST_CASE("without a display the viewer stops with a one-line error, not a crash") {

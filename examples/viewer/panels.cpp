@@ -48,7 +48,7 @@ int solver_index(radiosity::SolverKind s) {
 void colour_bar(double lo, double hi) {
     ImDrawList* draw = ImGui::GetWindowDrawList();
     const ImVec2 at = ImGui::GetCursorScreenPos();
-    const float w = std::max(ImGui::GetContentRegionAvail().x, 100.0f), h = 12.0f;
+    const float w = 256.0f, h = 12.0f;
     constexpr int steps = 32;
     for (int k = 0; k < steps; ++k) {
         const glm::vec3 a = false_colour(double(k) / steps),
@@ -78,7 +78,7 @@ bool view_panel(ViewSettings& s, CameraControl& camera, double scale) {
             s.mode = all_modes[k];
             changed = true;
         }
-        if (k + 1 < all_modes.size()) ImGui::SameLine();
+        if (k != 2 && k + 1 < all_modes.size()) ImGui::SameLine();  // two rows
     }
     changed |= ImGui::Checkbox("patch edges (G)", &s.edges);
     ImGui::SameLine();
@@ -86,12 +86,12 @@ bool view_panel(ViewSettings& s, CameraControl& camera, double scale) {
     changed |= ImGui::Checkbox("auto exposure", &s.auto_exposure);
     ImGui::SameLine();
     float stops = static_cast<float>(s.stops);
+    ImGui::SetNextItemWidth(100);
     if (ImGui::SliderFloat("stops ([ ])", &stops, -8.0f, 8.0f, "%.1f")) {
         s.stops = stops;
         changed = true;
     }
-    ImGui::Text("display = sRGB(%.3g x B)%s", scale,
-                s.auto_exposure ? ", 95th percentile at 0.8" : "");
+    ImGui::Text("display = sRGB(%.3g x B)%s", scale, s.auto_exposure ? " (auto)" : "");
     int mode = camera.mode() == CameraMode::orbit ? 0 : 1;
     ImGui::Text("camera (C):");
     ImGui::SameLine();
@@ -104,16 +104,20 @@ bool view_panel(ViewSettings& s, CameraControl& camera, double scale) {
         changed = true;
     }
     float fov = static_cast<float>(camera.camera().fov_y_degrees);
+    ImGui::SetNextItemWidth(180);
     if (ImGui::SliderFloat("field of view", &fov, 10.0f, 120.0f, "%.1f deg")) {
         camera.set_fov(fov);
         changed = true;
     }
     if (ImGui::CollapsingHeader("keys and mouse")) {
         ImGui::TextUnformatted(
-            "1-5 modes, G edges, T ambient term, [ ] exposure, C orbit/fly, H home camera\n"
-            "space pause/resume, N one step, click a patch: its row and hemicube, Esc: unpick\n"
-            "orbit: drag to turn, right-drag to pan, wheel to zoom\n"
-            "fly: drag to look, W A S D to move, Q E down/up, shift faster, wheel: speed");
+            "1-5 modes, G edges, T ambient term, [ ] exposure\n"
+            "C orbit/fly, H home camera\n"
+            "space pause/resume, N one step\n"
+            "click a patch: its row and hemicube; Esc: unpick\n"
+            "orbit: drag to turn, right-drag to pan, wheel: zoom\n"
+            "fly: drag to look, W A S D to move, Q E down/up,\n"
+            "     shift faster, wheel: speed");
     }
     ImGui::End();
     return changed;
@@ -221,32 +225,33 @@ bool PatchPanel::draw(ViewSettings& settings, bool computing_column) {
                             ImVec2(1.0f, 0.0f));  // against the right edge
     ImGui::Begin("Patch", &open, ImGuiWindowFlags_AlwaysAutoResize);
     ImGui::Text("patch %zu of %zu, area %.4g", i, patches_.size(), t.area(i));
-    ImGui::Text("centre (%.4g, %.4g, %.4g), normal (%.3f, %.3f, %.3f)", t.centroid(i).x,
-                t.centroid(i).y, t.centroid(i).z, t.normal(i).x, t.normal(i).y, t.normal(i).z);
+    ImGui::Text("centre (%.4g, %.4g, %.4g)", t.centroid(i).x, t.centroid(i).y, t.centroid(i).z);
+    ImGui::Text("normal (%.3f, %.3f, %.3f)", t.normal(i).x, t.normal(i).y, t.normal(i).z);
     const Colour& E = patches_.emission()[i];
     const Colour& R = patches_.reflectance()[i];
-    ImGui::Text("E (%.3g, %.3g, %.3g), R (%.3f, %.3f, %.3f)", band(E, 0), band(E, 1), band(E, 2),
-                band(R, 0), band(R, 1), band(R, 2));
+    ImGui::Text("E (%.3g, %.3g, %.3g)", band(E, 0), band(E, 1), band(E, 2));
+    ImGui::SameLine();
+    ImGui::Text("R (%.3f, %.3f, %.3f)", band(R, 0), band(R, 1), band(R, 2));
     ImGui::Separator();
     ImGui::Text("F_ii = %.3g", r.self);
     ImGui::Text("row sum  sum_j F_ij = %.6f", r.sum);
     if (r.reciprocity)
-        ImGui::Text("reciprocity error of the row = %.3e", *r.reciprocity);
+        ImGui::Text("reciprocity error = %.3e", *r.reciprocity);
     else
         ImGui::Text("reciprocity error: %s", computing_column ? "computing column i..." : "-");
-    ImGui::Checkbox("show the row F_ij on the scene", &settings.show_row);
-    ImGui::TextUnformatted("F_ij, logarithmic (dark grey: 0; white: patch i)");
+    ImGui::Checkbox("the row F_ij on the scene", &settings.show_row);
+    ImGui::TextUnformatted("log scale; dark grey: 0, white: patch i");
     colour_bar(std::max(r.smallest, 1e-4 * r.largest), r.largest);
     ImGui::Separator();
-    ImGui::Text("hemicube %d x %d: delta form factors add up to %.5f, %.5f on patches",
-                hemicube_.options().resolution, hemicube_.options().resolution, unfolded_.total,
-                unfolded_.covered);
+    ImGui::Text("hemicube %d x %d: sum of delta F %.5f", hemicube_.options().resolution,
+                hemicube_.options().resolution, unfolded_.total);
+    ImGui::Text("on pixels that see a patch: %.5f", unfolded_.covered);
     ImGui::RadioButton("what it sees", &shown_, 0);
     ImGui::SameLine();
     ImGui::RadioButton("which patch", &shown_, 1);
     ImGui::SameLine();
-    ImGui::RadioButton("delta form factors", &shown_, 2);
-    const float side = 320.0f;
+    ImGui::RadioButton("delta F", &shown_, 2);
+    const float side = 256.0f;
     const ImVec2 at = ImGui::GetCursorScreenPos();
     ImGui::Image(reinterpret_cast<ImTextureID>(
                      static_cast<std::intptr_t>(pictures_[static_cast<std::size_t>(shown_)].get())),
