@@ -68,17 +68,18 @@ void colour_bar(double lo, double hi) {
 
 }  // namespace
 
-bool view_panel(ViewSettings& s, CameraControl& camera, double scale) {
+namespace {
+
+/// The mode's radio buttons (two rows), the edges and the ambient term, the exposure.
+bool picture_controls(ViewSettings& s, double scale) {
     bool changed = false;
-    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
-    ImGui::Begin("View", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
     for (std::size_t k = 0; k < all_modes.size(); ++k) {
         const std::string label = std::to_string(k + 1) + " " + mode_name(all_modes[k]);
         if (ImGui::RadioButton(label.c_str(), s.mode == all_modes[k])) {
             s.mode = all_modes[k];
             changed = true;
         }
-        if (k != 2 && k + 1 < all_modes.size()) ImGui::SameLine();  // two rows
+        if (k != 2 && k + 1 < all_modes.size()) ImGui::SameLine();
     }
     changed |= ImGui::Checkbox("patch edges (G)", &s.edges);
     ImGui::SameLine();
@@ -92,6 +93,12 @@ bool view_panel(ViewSettings& s, CameraControl& camera, double scale) {
         changed = true;
     }
     ImGui::Text("display = sRGB(%.3g x B)%s", scale, s.auto_exposure ? " (auto)" : "");
+    return changed;
+}
+
+/// Orbit or fly, home, the field of view.
+bool camera_controls(CameraControl& camera) {
+    bool changed = false;
     int mode = camera.mode() == CameraMode::orbit ? 0 : 1;
     ImGui::Text("camera (C):");
     ImGui::SameLine();
@@ -109,6 +116,16 @@ bool view_panel(ViewSettings& s, CameraControl& camera, double scale) {
         camera.set_fov(fov);
         changed = true;
     }
+    return changed;
+}
+
+}  // namespace
+
+bool view_panel(ViewSettings& s, CameraControl& camera, double scale) {
+    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_FirstUseEver);
+    ImGui::Begin("View", nullptr, ImGuiWindowFlags_AlwaysAutoResize);
+    bool changed = picture_controls(s, scale);
+    changed |= camera_controls(camera);
     if (ImGui::CollapsingHeader("keys and mouse")) {
         ImGui::TextUnformatted(
             "1-5 modes, G edges, T ambient term, [ ] exposure\n"
@@ -148,35 +165,11 @@ bool SolvePanel::draw(ViewSettings& settings) {
     if (ImGui::Button("restart")) start(solvers[std::size_t(chosen_)], false);
     const bool shooting = st.solver == radiosity::SolverKind::progressive;
     ImGui::Text("%s: %s", solver_names[std::size_t(solver_index(st.solver))], state_name(st.state));
-    if (st.state == SolveState::form_factors) {
-        ImGui::ProgressBar(static_cast<float>(st.fraction), ImVec2(260, 0), "form factors");
-    } else {
-        if (st.state == SolveState::paused) {
-            if (ImGui::Button("resume (space)")) worker_.resume();
-            ImGui::SameLine();
-            if (ImGui::Button("step (N)")) worker_.step();
-        } else if (st.state == SolveState::running) {
-            if (ImGui::Button("pause (space)")) worker_.pause();
-        }
-        if (shooting) {
-            int batch = static_cast<int>(worker_.batch());
-            ImGui::SetNextItemWidth(120);
-            if (ImGui::InputInt("shots per step", &batch, 1, 10))
-                worker_.set_batch(std::size_t(std::max(batch, 1)));
-        }
-    }
+    controls(st);
     if (shooting) changed |= ImGui::Checkbox("ambient term (T)", &settings.ambient);
     ImGui::Text("%zu %s, %s %.3e", st.iteration, shooting ? "shots" : "sweeps",
                 shooting ? "unshot / emitted" : "relative change", st.residual);
-    if (!log_residual_.empty()) {
-        char overlay[64];
-        std::snprintf(overlay, sizeof overlay, "log10 %s, %zu %s", shooting ? "unshot" : "change",
-                      history_.back().iteration, shooting ? "shots" : "sweeps");
-        const float lo = *std::min_element(log_residual_.begin(), log_residual_.end());
-        ImGui::PlotLines("##history", log_residual_.data(), int(log_residual_.size()), 0, overlay,
-                         std::min(lo, -1.0f), std::max(0.0f, log_residual_.front()),
-                         ImVec2(300, 90));
-    }
+    plot(shooting);
     if (st.state == SolveState::done || st.state == SolveState::cancelled) {
         ImGui::Text("%s in %.2f s", st.report.converged ? "converged" : "NOT converged",
                     st.report.seconds);
@@ -188,6 +181,36 @@ bool SolvePanel::draw(ViewSettings& settings) {
     if (st.state == SolveState::failed) ImGui::TextWrapped("error: %s", st.error.c_str());
     ImGui::End();
     return changed;
+}
+
+void SolvePanel::controls(const SolveStatus& st) {
+    if (st.state == SolveState::form_factors) {
+        ImGui::ProgressBar(static_cast<float>(st.fraction), ImVec2(260, 0), "form factors");
+        return;
+    }
+    if (st.state == SolveState::paused) {
+        if (ImGui::Button("resume (space)")) worker_.resume();
+        ImGui::SameLine();
+        if (ImGui::Button("step (N)")) worker_.step();
+    } else if (st.state == SolveState::running) {
+        if (ImGui::Button("pause (space)")) worker_.pause();
+    }
+    if (st.solver == radiosity::SolverKind::progressive) {
+        int batch = static_cast<int>(worker_.batch());
+        ImGui::SetNextItemWidth(120);
+        if (ImGui::InputInt("shots per step", &batch, 1, 10))
+            worker_.set_batch(std::size_t(std::max(batch, 1)));
+    }
+}
+
+void SolvePanel::plot(bool shooting) const {
+    if (log_residual_.empty()) return;
+    char overlay[64];
+    std::snprintf(overlay, sizeof overlay, "log10 %s, %zu %s", shooting ? "unshot" : "change",
+                  history_.back().iteration, shooting ? "shots" : "sweeps");
+    const float lo = *std::min_element(log_residual_.begin(), log_residual_.end());
+    ImGui::PlotLines("##history", log_residual_.data(), int(log_residual_.size()), 0, overlay,
+                     std::min(lo, -1.0f), std::max(0.0f, log_residual_.front()), ImVec2(300, 90));
 }
 
 PatchPanel::PatchPanel(const Patches& patches)
@@ -217,13 +240,21 @@ void PatchPanel::recolour(const std::vector<glm::vec3>& colours) {
 
 bool PatchPanel::draw(ViewSettings& settings, bool computing_column) {
     if (!row_) return true;
-    const FormFactorRow& r = *row_;
-    const auto& t = patches_.table();
-    const std::size_t i = r.patch;
     bool open = true;
     ImGui::SetNextWindowPos(ImVec2(ImGui::GetIO().DisplaySize.x - 10, 10), ImGuiCond_FirstUseEver,
                             ImVec2(1.0f, 0.0f));  // against the right edge
     ImGui::Begin("Patch", &open, ImGuiWindowFlags_AlwaysAutoResize);
+    numbers(settings, computing_column);
+    ImGui::Separator();
+    hemicube();
+    ImGui::End();
+    return open;
+}
+
+void PatchPanel::numbers(ViewSettings& settings, bool computing_column) {
+    const FormFactorRow& r = *row_;
+    const auto& t = patches_.table();
+    const std::size_t i = r.patch;
     ImGui::Text("patch %zu of %zu, area %.4g", i, patches_.size(), t.area(i));
     ImGui::Text("centre (%.4g, %.4g, %.4g)", t.centroid(i).x, t.centroid(i).y, t.centroid(i).z);
     ImGui::Text("normal (%.3f, %.3f, %.3f)", t.normal(i).x, t.normal(i).y, t.normal(i).z);
@@ -242,7 +273,9 @@ bool PatchPanel::draw(ViewSettings& settings, bool computing_column) {
     ImGui::Checkbox("the row F_ij on the scene", &settings.show_row);
     ImGui::TextUnformatted("log scale; dark grey: 0, white: patch i");
     colour_bar(std::max(r.smallest, 1e-4 * r.largest), r.largest);
-    ImGui::Separator();
+}
+
+void PatchPanel::hemicube() {
     ImGui::Text("hemicube %d x %d: sum of delta F %.5f", hemicube_.options().resolution,
                 hemicube_.options().resolution, unfolded_.total);
     ImGui::Text("on pixels that see a patch: %.5f", unfolded_.covered);
@@ -256,28 +289,24 @@ bool PatchPanel::draw(ViewSettings& settings, bool computing_column) {
     ImGui::Image(reinterpret_cast<ImTextureID>(
                      static_cast<std::intptr_t>(pictures_[static_cast<std::size_t>(shown_)].get())),
                  ImVec2(side, side));
-    if (ImGui::IsItemHovered()) {
-        const ImVec2 m = ImGui::GetIO().MousePos;
-        const int x =
-            std::clamp(int((m.x - at.x) / side * float(unfolded_.size)), 0, unfolded_.size - 1);
-        const int y =
-            std::clamp(int((m.y - at.y) / side * float(unfolded_.size)), 0, unfolded_.size - 1);
-        const auto k = static_cast<std::size_t>(y * unfolded_.size + x);
-        if (unfolded_.face[k] >= 0) {
-            const std::int32_t j = unfolded_.seen[k];
-            ImGui::BeginTooltip();
-            ImGui::Text("%s, pixel %d: delta F %.3e", hemicube_face_name(unfolded_.face[k]).c_str(),
-                        unfolded_.face_pixel[k], unfolded_.delta[k]);
-            if (j >= 0)
-                ImGui::Text("sees patch %d: F_ij = %.4e (its pixels: %.4e)", j,
-                            r.F[static_cast<std::size_t>(j)], unfolded_.seen_sum(j));
-            else
-                ImGui::TextUnformatted("sees nothing");
-            ImGui::EndTooltip();
-        }
-    }
-    ImGui::End();
-    return open;
+    if (!ImGui::IsItemHovered()) return;
+    // The pixel under the cursor: which face, which patch it sees, its delta form factor.
+    const ImVec2 m = ImGui::GetIO().MousePos;
+    const int n = unfolded_.size;
+    const int x = std::clamp(int((m.x - at.x) / side * float(n)), 0, n - 1);
+    const int y = std::clamp(int((m.y - at.y) / side * float(n)), 0, n - 1);
+    const auto k = static_cast<std::size_t>(y * n + x);
+    if (unfolded_.face[k] < 0) return;
+    const std::int32_t j = unfolded_.seen[k];
+    ImGui::BeginTooltip();
+    ImGui::Text("%s, pixel %d: delta F %.3e", hemicube_face_name(unfolded_.face[k]).c_str(),
+                unfolded_.face_pixel[k], unfolded_.delta[k]);
+    if (j >= 0)
+        ImGui::Text("sees patch %d: F_ij = %.4e (its pixels: %.4e)", j,
+                    row_->F[static_cast<std::size_t>(j)], unfolded_.seen_sum(j));
+    else
+        ImGui::TextUnformatted("sees nothing");
+    ImGui::EndTooltip();
 }
 
 }  // namespace radiosity::view

@@ -34,6 +34,9 @@ class SolvePanel {
     void start(radiosity::SolverKind solver, bool paused);
 
   private:
+    void controls(const SolveStatus& st);
+    void plot(bool shooting) const;
+
     SolveWorker& worker_;
     int chosen_ = 2;  // the solver in the combo: jacobi, gauss-seidel, progressive,
                       // direct
@@ -61,6 +64,9 @@ class PatchPanel {
     bool draw(ViewSettings& settings, bool computing_column);
 
   private:
+    void numbers(ViewSettings& settings, bool computing_column);
+    void hemicube();
+
     const Patches& patches_;
     radiosity::Hemicube hemicube_;
     std::optional<FormFactorRow> row_;

@@ -146,28 +146,41 @@ void Renderer::resize(int width, int height) {
 void Renderer::draw(const GpuScene& scene, const DrawSettings& s) {
     glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_.get());
     glViewport(0, 0, width_, height_);
+    clear();
+    const glm::mat4 clip =
+        clip_matrix(s.camera, scene.origin(), scene.radius(), double(width_) / double(height_));
+    glEnable(GL_DEPTH_TEST);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    glFrontFace(GL_CCW);
+    glDisable(GL_BLEND);
+    draw_surfaces(scene, s, clip);
+    if (s.edges) draw_edges(scene, s, clip);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_DEPTH_TEST);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl::check("drawing the scene");
+}
+
+void Renderer::clear() {
     const GLenum all[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
     glDrawBuffers(3, all);
     const GLfloat black[4] = {0.0f, 0.0f, 0.0f, 1.0f}, nothing[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     const GLuint none[4] = {0, 0, 0, 0};
     const GLfloat farthest = 1.0f;
+    glDepthMask(GL_TRUE);
     glClearBufferfv(GL_COLOR, 0, black);
     glClearBufferfv(GL_COLOR, 1, nothing);
     glClearBufferuiv(GL_COLOR, 2, none);
     glClearBufferfv(GL_DEPTH, 0, &farthest);
-    glEnable(GL_DEPTH_TEST);
+}
+
+void Renderer::draw_surfaces(const GpuScene& scene, const DrawSettings& s, const glm::mat4& clip) {
     glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_BLEND);
-    glEnable(GL_CULL_FACE);
-    glCullFace(GL_BACK);
-    glFrontFace(GL_CCW);
     if (s.edges) {  // surfaces a little behind their edges, so that the lines win the depth test
         glEnable(GL_POLYGON_OFFSET_FILL);
         glPolygonOffset(1.0f, 1.0f);
     }
-    const glm::mat4 clip =
-        clip_matrix(s.camera, scene.origin(), scene.radius(), double(width_) / double(height_));
     const GLuint p = surfaces_.get();
     glUseProgram(p);
     glUniformMatrix4fv(uniform(p, "clip"), 1, GL_FALSE, glm::value_ptr(clip));
@@ -181,28 +194,27 @@ void Renderer::draw(const GpuScene& scene, const DrawSettings& s) {
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_BUFFER, scene.patch_values());
     scene.draw_triangles();
-    glDisable(GL_POLYGON_OFFSET_FILL);
-    if (s.edges) {
-        glDrawBuffers(1, all);  // lines are no light and see no patch: the display picture only
-        glDepthFunc(GL_LEQUAL);
-        glDepthMask(GL_FALSE);
-        const GLuint e = edges_.get();
-        glUseProgram(e);
-        glUniformMatrix4fv(uniform(e, "clip"), 1, GL_FALSE, glm::value_ptr(clip));
-        const glm::vec3 eye(s.camera.eye - scene.origin());
-        glUniform3fv(uniform(e, "eye"), 1, glm::value_ptr(eye));
-        glUniform3fv(uniform(e, "colour"), 1, glm::value_ptr(s.edge_colour));
-        scene.draw_edges();
-        glDepthMask(GL_TRUE);
-    }
     glBindTexture(GL_TEXTURE_BUFFER, 0);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_BUFFER, 0);
     glUseProgram(0);
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_DEPTH_TEST);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    gl::check("drawing the scene");
+    glDisable(GL_POLYGON_OFFSET_FILL);
+}
+
+void Renderer::draw_edges(const GpuScene& scene, const DrawSettings& s, const glm::mat4& clip) {
+    const GLenum display = GL_COLOR_ATTACHMENT0;
+    glDrawBuffers(1, &display);  // lines are no light and see no patch: the display picture only
+    glDepthFunc(GL_LEQUAL);
+    glDepthMask(GL_FALSE);
+    const GLuint e = edges_.get();
+    glUseProgram(e);
+    glUniformMatrix4fv(uniform(e, "clip"), 1, GL_FALSE, glm::value_ptr(clip));
+    const glm::vec3 eye(s.camera.eye - scene.origin());
+    glUniform3fv(uniform(e, "eye"), 1, glm::value_ptr(eye));
+    glUniform3fv(uniform(e, "colour"), 1, glm::value_ptr(s.edge_colour));
+    scene.draw_edges();
+    glUseProgram(0);
+    glDepthMask(GL_TRUE);
 }
 
 template <class T>

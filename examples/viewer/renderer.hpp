@@ -12,6 +12,7 @@
 
 #include <radiosity/shading/camera.hpp>
 
+#include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
 #include <cstdint>
@@ -56,6 +57,9 @@ class Renderer {
     GLuint framebuffer() const { return framebuffer_.get(); }
 
   private:
+    void clear();
+    void draw_surfaces(const GpuScene& scene, const DrawSettings& s, const glm::mat4& clip);
+    void draw_edges(const GpuScene& scene, const DrawSettings& s, const glm::mat4& clip);
     template <class T>
     std::vector<T> read(GLenum attachment, GLenum format, GLenum type, int channels) const;
 

@@ -49,10 +49,16 @@ GpuScene::GpuScene(const Patches& patches, const radiosity::ShadedMesh& topology
         origin_ = 0.5 * (lo + hi);
         radius_ = std::max(0.5 * glm::length(hi - lo), 1e-12);
     }
+    upload_triangles(topology);
+    upload_edges(patches);
+    upload_patch_tables(patches, topology.triangles.size());
+    gl::check("uploading the scene");
+}
+
+void GpuScene::upload_triangles(const radiosity::ShadedMesh& topology) {
     std::vector<glm::vec3> positions;
     positions.reserve(vertices_);
     for (const auto& p : topology.positions) positions.emplace_back(p - origin_);
-
     triangles_vao_ = gl::make_vertex_array();
     positions_ = gl::make_buffer();
     colours_ = gl::make_buffer();
@@ -74,7 +80,10 @@ GpuScene::GpuScene(const Patches& patches, const radiosity::ShadedMesh& topology
                  topology.triangles.data(), GL_STATIC_DRAW);
     indices_ = static_cast<GLsizei>(topology.triangles.size() * 3);
     glBindVertexArray(0);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+}
 
+void GpuScene::upload_edges(const Patches& patches) {
     // Each edge of each patch, with the patch's normal so that edges of back faces can be hidden.
     std::vector<glm::vec3> edges;
     for (std::size_t i = 0; i < patches.size(); ++i) {
@@ -101,8 +110,10 @@ GpuScene::GpuScene(const Patches& patches, const radiosity::ShadedMesh& topology
     glEnableVertexAttribArray(1);
     glBindVertexArray(0);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
+}
 
-    const auto owner = triangle_patches(patches, topology.triangles.size());
+void GpuScene::upload_patch_tables(const Patches& patches, std::size_t triangles) {
+    const auto owner = triangle_patches(patches, triangles);
     triangle_patch_buffer_ = gl::make_buffer();
     triangle_patch_texture_ = gl::make_texture();
     buffer_texture(triangle_patch_texture_.get(), triangle_patch_buffer_.get(), GL_R32UI,
@@ -113,7 +124,6 @@ GpuScene::GpuScene(const Patches& patches, const radiosity::ShadedMesh& topology
     const std::vector<glm::vec4> zero(patches_, glm::vec4(0.0f));
     buffer_texture(patch_value_texture_.get(), patch_value_buffer_.get(), GL_RGBA32F, zero.data(),
                    zero.size() * sizeof(glm::vec4));
-    gl::check("uploading the scene");
 }
 
 void GpuScene::set_vertex_colours(const std::vector<glm::vec3>& colours) {

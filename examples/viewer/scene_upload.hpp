@@ -42,6 +42,10 @@ class GpuScene {
     GLuint patch_values() const { return patch_value_texture_.get(); }       ///< samplerBuffer
 
   private:
+    void upload_triangles(const radiosity::ShadedMesh& topology);
+    void upload_edges(const Patches& patches);
+    void upload_patch_tables(const Patches& patches, std::size_t triangles);
+
     glm::dvec3 origin_{0.0};
     double radius_ = 1.0;
     std::size_t vertices_ = 0, patches_ = 0;

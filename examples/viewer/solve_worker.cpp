@@ -66,53 +66,20 @@ void SolveWorker::start(radiosity::SolverKind solver, bool paused) {
 }
 
 void SolveWorker::run(radiosity::SolverKind solver) {
-    using radiosity::SolverKind;
-    const radiosity::SolveOptions& o = patches_.options();
     const radiosity::System<Colour> system = patches_.system();
-    auto observer = [this](const radiosity::Progress& p) { return observe(p); };
+    const radiosity::ProgressCallback observer = [this](const radiosity::Progress& p) {
+        return observe(p);
+    };
     try {
-        radiosity::Solution<Colour> solution;
-        if (solver == SolverKind::progressive) {
-            auto shooting = settings<radiosity::ProgressiveOptions>(o);
+        if (solver == radiosity::SolverKind::progressive) {
+            auto shooting = settings<radiosity::ProgressiveOptions>(patches_.options());
             shooting.report_every = 1;  // the worker decides when to draw
-            solution = patches_.visit([&](const auto& method) {
+            finish(patches_.visit([&](const auto& method) {
                 return radiosity::Progressive(shooting).solve(system, method, observer);
-            });
+            }));
         } else {
-            std::shared_ptr<const radiosity::DenseMatrix> F = matrix();
-            if (!F) {
-                {
-                    std::lock_guard lock(mutex_);
-                    status_.state = SolveState::form_factors;
-                }
-                const auto t0 = std::chrono::steady_clock::now();
-                F = std::make_shared<const radiosity::DenseMatrix>(
-                    patches_.visit([&](const auto& method) {
-                        return radiosity::assemble_dense(method, patches_.size(), observer);
-                    }));
-                std::lock_guard lock(mutex_);
-                matrix_ = F;
-                status_.form_factor_seconds =
-                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-                status_.state = paused_ ? SolveState::paused : SolveState::running;
-            }
-            switch (solver) {
-                case SolverKind::jacobi:
-                    solution = radiosity::Jacobi(settings<radiosity::JacobiOptions>(o))
-                                   .solve(system, *F, observer);
-                    break;
-                case SolverKind::gauss_seidel:
-                    solution = radiosity::GaussSeidel(settings<radiosity::GaussSeidelOptions>(o))
-                                   .solve(system, *F, observer);
-                    break;
-                case SolverKind::direct:
-                    solution = radiosity::Direct().solve(system, *F, observer);
-                    break;
-                case SolverKind::progressive:
-                    break;
-            }
+            finish(gather(solver, system, observer));
         }
-        finish(solution);
     } catch (const radiosity::Cancelled&) {
         std::lock_guard lock(mutex_);
         end_locked(SolveState::cancelled);
@@ -121,6 +88,49 @@ void SolveWorker::run(radiosity::SolverKind solver) {
         status_.error = e.what();
         end_locked(SolveState::failed);
     }
+}
+
+radiosity::Solution<Colour> SolveWorker::gather(radiosity::SolverKind solver,
+                                                const radiosity::System<Colour>& system,
+                                                const radiosity::ProgressCallback& observer) {
+    const radiosity::SolveOptions& o = patches_.options();
+    const std::shared_ptr<const radiosity::DenseMatrix> F = assembled(observer);
+    switch (solver) {
+        case radiosity::SolverKind::jacobi:
+            return radiosity::Jacobi(settings<radiosity::JacobiOptions>(o))
+                .solve(system, *F, observer);
+        case radiosity::SolverKind::gauss_seidel:
+            return radiosity::GaussSeidel(settings<radiosity::GaussSeidelOptions>(o))
+                .solve(system, *F, observer);
+        case radiosity::SolverKind::direct:
+            return radiosity::Direct().solve(system, *F, observer);
+        case radiosity::SolverKind::progressive:
+            break;
+    }
+    throw radiosity::Error("the worker gathers with Jacobi, Gauss-Seidel or the direct solve");
+}
+
+std::shared_ptr<const radiosity::DenseMatrix> SolveWorker::assembled(
+    const radiosity::ProgressCallback& observer) {
+    if (auto F = matrix()) {  // made by an earlier start
+        std::lock_guard lock(mutex_);
+        status_.form_factor_seconds = matrix_seconds_;
+        return F;
+    }
+    {
+        std::lock_guard lock(mutex_);
+        status_.state = SolveState::form_factors;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    auto F = std::make_shared<const radiosity::DenseMatrix>(patches_.visit([&](const auto& method) {
+        return radiosity::assemble_dense(method, patches_.size(), observer);
+    }));
+    std::lock_guard lock(mutex_);
+    matrix_ = F;
+    matrix_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    status_.form_factor_seconds = matrix_seconds_;
+    status_.state = SolveState::running;  // until the first sweep's report
+    return F;
 }
 
 bool SolveWorker::observe(const radiosity::Progress& p) {

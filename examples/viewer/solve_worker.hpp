@@ -89,6 +89,11 @@ class SolveWorker {
 
   private:
     void run(radiosity::SolverKind solver);
+    radiosity::Solution<Colour> gather(radiosity::SolverKind solver,
+                                       const radiosity::System<Colour>& system,
+                                       const radiosity::ProgressCallback& observer);
+    std::shared_ptr<const radiosity::DenseMatrix> assembled(
+        const radiosity::ProgressCallback& observer);
     bool observe(const radiosity::Progress& p);
     void publish_locked();
     void finish(const radiosity::Solution<Colour>& solution);
@@ -107,6 +112,7 @@ class SolveWorker {
     std::vector<double> B_, unshot_;  // the solver's values at its last report
     std::vector<ResidualPoint> history_;
     std::shared_ptr<const radiosity::DenseMatrix> matrix_;
+    double matrix_seconds_ = 0.0;
 };
 
 }  // namespace radiosity::view

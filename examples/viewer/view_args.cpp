@@ -17,30 +17,29 @@ std::optional<std::array<int, 2>> parse_pixel(const std::string& s) {
 }
 }  // namespace
 
-std::optional<int> parse_view_args(int argc, char** argv, ViewArgs& a) {
-    CLI::App app{
-        "radiosity-view: watch the radiosity method at work. Opens a window on the scene, "
-        "solves it on a worker thread and shows the light as it spreads; a click on a patch "
-        "shows its form-factor row and its hemicube. With --screenshot or --pick it draws "
-        "off screen and exits.",
-        "radiosity-view"};
-    app.failure_message(CLI::FailureMessage::simple);
-    a.scene.solver = "progressive";  // the solver to watch (the program's default: gauss-seidel)
-    radiosity::cli::add_scene_options(app, a.scene);
-    auto* picture = app.add_option_group("Picture", "what the view shows, and from where");
+namespace {
+
+/// What the command line gives before it is checked: the --pick strings and --flat.
+struct Raw {
     std::vector<std::string> picks;
-    auto* width = picture->add_option("--width", a.width, "picture width (--screenshot, --pick)")
-                      ->check(CLI::Range(1, 16384))
-                      ->capture_default_str();
-    auto* height =
-        picture->add_option("--height", a.height, "picture height (--screenshot, --pick)")
-            ->check(CLI::Range(1, 16384))
-            ->capture_default_str();
+    bool flat = false;
+    CLI::Option* width = nullptr;
+    CLI::Option* height = nullptr;
+};
+
+/// The viewer's own option groups: the picture, headless runs, the live solve.
+void add_view_options(CLI::App& app, ViewArgs& a, Raw& raw) {
+    auto* picture = app.add_option_group("Picture", "what the view shows, and from where");
+    raw.width = picture->add_option("--width", a.width, "picture width (--screenshot, --pick)")
+                    ->check(CLI::Range(1, 16384))
+                    ->capture_default_str();
+    raw.height = picture->add_option("--height", a.height, "picture height (--screenshot, --pick)")
+                     ->check(CLI::Range(1, 16384))
+                     ->capture_default_str();
     picture->add_option("--exposure", a.exposure, "exposure compensation in stops")
         ->check(CLI::Range(-64.0, 64.0))
         ->capture_default_str();
-    bool flat = false;
-    picture->add_flag("--flat", flat, "start in flat shading (as --mode flat)");
+    picture->add_flag("--flat", raw.flat, "start in flat shading (as --mode flat)");
     picture
         ->add_option("--mode", a.mode,
                      "what the surfaces show: wireframe (the patches' edges over flat shading), "
@@ -52,7 +51,7 @@ std::optional<int> parse_view_args(int argc, char** argv, ViewArgs& a) {
     headless->add_option("--screenshot", a.screenshot,
                          "after the solve, draw one frame into this PNG and exit");
     headless
-        ->add_option("--pick", picks,
+        ->add_option("--pick", raw.picks,
                      "print the patch seen at pixel X,Y (row 0 at the top) and its form-factor "
                      "row's numbers, then exit (repeatable; with --screenshot, the last pick's "
                      "row is shown)")
@@ -68,36 +67,48 @@ std::optional<int> parse_view_args(int argc, char** argv, ViewArgs& a) {
         ->check(CLI::PositiveNumber);
     live->add_flag("--paused", a.paused, "start with the solve paused (space resumes, N steps)");
     app.add_flag("--quiet", a.quiet, "no progress on stderr");
-    if (auto status = radiosity::cli::parse(app, argc, argv)) return status;
-    a.size_given = width->count() > 0 || height->count() > 0;
-    if (flat) a.mode = "flat";
-    for (const std::string& p : picks) {
+}
+
+/// One line on stderr and the status of a bad command line.
+int bad(const std::string& message) {
+    std::fprintf(stderr, "radiosity-view: error: %s (see --help)\n", message.c_str());
+    return 2;
+}
+
+/// Checks what CLI11 cannot check alone and fills in the rest of a.
+std::optional<int> finish(ViewArgs& a, const Raw& raw) {
+    a.size_given = raw.width->count() > 0 || raw.height->count() > 0;
+    if (raw.flat) a.mode = "flat";
+    for (const std::string& p : raw.picks) {
         const auto xy = parse_pixel(p);
-        if (!xy) {
-            std::fprintf(stderr, "radiosity-view: error: --pick: '%s' is not X,Y (see --help)\n",
-                         p.c_str());
-            return 2;
-        }
-        if ((*xy)[0] >= a.width || (*xy)[1] >= a.height) {
-            std::fprintf(stderr,
-                         "radiosity-view: error: --pick: pixel %s lies outside the %d x %d "
-                         "picture (see --help)\n",
-                         p.c_str(), a.width, a.height);
-            return 2;
-        }
+        if (!xy) return bad("--pick: '" + p + "' is not X,Y");
+        if ((*xy)[0] >= a.width || (*xy)[1] >= a.height)
+            return bad("--pick: pixel " + p + " lies outside the " + std::to_string(a.width) +
+                       " x " + std::to_string(a.height) + " picture");
         a.picks.push_back(*xy);
     }
-    if (!a.screenshot.empty() && std::filesystem::path(a.screenshot).extension() != ".png") {
-        std::fprintf(stderr,
-                     "radiosity-view: error: --screenshot writes a PNG: '%s' (see --help)\n",
-                     a.screenshot.c_str());
-        return 2;
-    }
-    if (a.ui && a.screenshot.empty()) {
-        std::fprintf(stderr, "radiosity-view: error: --ui needs --screenshot (see --help)\n");
-        return 2;
-    }
+    if (!a.screenshot.empty() && std::filesystem::path(a.screenshot).extension() != ".png")
+        return bad("--screenshot writes a PNG: '" + a.screenshot + "'");
+    if (a.ui && a.screenshot.empty()) return bad("--ui needs --screenshot");
     return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<int> parse_view_args(int argc, char** argv, ViewArgs& a) {
+    CLI::App app{
+        "radiosity-view: watch the radiosity method at work. Opens a window on the scene, "
+        "solves it on a worker thread and shows the light as it spreads; a click on a patch "
+        "shows its form-factor row and its hemicube. With --screenshot or --pick it draws "
+        "off screen and exits.",
+        "radiosity-view"};
+    app.failure_message(CLI::FailureMessage::simple);
+    a.scene.solver = "progressive";  // the solver to watch (the program's default: gauss-seidel)
+    radiosity::cli::add_scene_options(app, a.scene);
+    Raw raw;
+    add_view_options(app, a, raw);
+    if (auto status = radiosity::cli::parse(app, argc, argv)) return status;
+    return finish(a, raw);
 }
 
 radiosity::SolverKind chosen_solver(const ViewArgs& a) {
