@@ -18,7 +18,7 @@
 
 int main() {
     using namespace radiosity;
-    const Mesh<float> mesh = subdivide(build_mesh(cornell_box<float>()), {100.0});
+    const Mesh<float> mesh = subdivide(build_mesh(cornell_box<float>()), {.max_edge = 100.0});
     const PatchTable patches = make_patch_table(mesh);
     std::size_t floor = 0;  // the floor patch nearest the middle of the floor
     for (std::size_t i = 0; i < patches.size(); ++i)

@@ -18,8 +18,8 @@ int main() {
     const SolveResult<Rgb> result = solve(scene, options);
 
     const Camera camera{{278, 273, -800}, {278, 273, 0}, {0, 1, 0}, 39.3};
-    const Image flat = render(flat_shading(result.mesh), camera, {256, 256});
-    const Image smooth = render(smooth_shading(result.mesh), camera, {256, 256});
+    const Image flat = render(flat_shading(result.mesh), camera, {.width = 256, .height = 256});
+    const Image smooth = render(smooth_shading(result.mesh), camera, {.width = 256, .height = 256});
     Image both{512, 256, std::vector<glm::vec3>(512 * 256)};
     double difference = 0.0;
     bool finite = true;

@@ -113,8 +113,10 @@ TEST_CASE("reciprocity of the doubles is exact, also for unequal patches") {
 }
 
 TEST_CASE("analytic options are checked") {
-    CHECK_THROWS_AS(Analytic(AnalyticOptions{0.0, 10}), Error);
-    CHECK_THROWS_AS(Analytic(AnalyticOptions{1e-6, -1}), Error);
+    CHECK_THROWS_AS(Analytic(AnalyticOptions{.tolerance = 0.0}), Error);
+    CHECK_THROWS_AS(Analytic(AnalyticOptions{.max_depth = -1}), Error);
+    CHECK_THROWS_AS(Analytic(AnalyticOptions{.visibility_samples = -1}), Error);
+    CHECK_THROWS_AS(Analytic(AnalyticOptions{.penumbra_samples = 65537}), Error);
     Analytic unprepared;
     CHECK_THROWS_AS(unprepared.pair(0, 1), Error);
 }

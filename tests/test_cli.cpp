@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
@@ -203,4 +204,54 @@ TEST_CASE("a default picture is written only when no output at all is named") {
     CHECK_FALSE(fs::exists(dir / "cornell-empty.png"));
     REQUIRE(in_dir("") == 0);
     CHECK(fs::exists(dir / "cornell-empty.png"));
+}
+
+TEST_CASE("--help lists every option once, in the option group of its job, each group described") {
+    const std::string path = out("help.txt");
+    const std::string cmd = std::string("'") + RADIOSITY_CLI + "' --help > '" + path + "'";
+    const int raw = std::system(cmd.c_str());
+    REQUIRE(WIFEXITED(raw));
+    REQUIRE(WEXITSTATUS(raw) == 0);
+    // Which group each option line of the help falls under ("" before the first group), and
+    // the line after each group's heading (its description).
+    std::map<std::string, std::vector<std::string>> found;
+    std::map<std::string, std::string> description;
+    std::ifstream in(path);
+    std::string line, group, heading = "[Option Group: ";
+    bool after_heading = false;
+    while (std::getline(in, line)) {
+        const std::size_t start = line.find_first_not_of(' ');
+        if (start == std::string::npos) continue;
+        const std::string text = line.substr(start);
+        if (after_heading) description[group] = text;
+        after_heading = text.rfind(heading, 0) == 0;
+        if (after_heading) group = text.substr(heading.size(), text.size() - heading.size() - 1);
+        if (text[0] != '-') continue;
+        const std::string names = text.substr(0, text.find(' '));  // "-h,--help": "--help"
+        found[names.substr(names.rfind(',') + 1)].push_back(group);
+    }
+    const std::map<std::string, std::vector<std::string>> groups{
+        {"", {"--help", "--quiet", "--partial"}},
+        {"Scene and meshing", {"--max-edge", "--max-area", "--divide"}},
+        {"Form factors", {"--form-factor", "--resolution", "--samples"}},
+        {"Solver", {"--solver", "--tolerance"}},
+        {"Pictures",
+         {"--image", "--hdr", "--width", "--height", "--camera", "--fov", "--flat", "--exposure"}},
+        {"Exports",
+         {"--ply", "--ply-float", "--gltf", "--rrv-out", "--dump-form-factors",
+          "--form-factors-text", "--dump-patches"}},
+        {"Lightmaps",
+         {"--lightmap", "--lightmap-size", "--texel-density", "--lightmap-gutter",
+          "--texels-per-patch"}}};
+    std::size_t options = 0;
+    for (const auto& [name, members] : groups) {
+        CAPTURE(name);
+        if (!name.empty()) CHECK(description[name].size() > 20);  // says what the group is for
+        for (const std::string& o : members) {
+            CAPTURE(o);
+            CHECK(found[o] == std::vector<std::string>{name});
+            ++options;
+        }
+    }
+    CHECK(found.size() == options);  // and no option outside the groups above
 }

@@ -3,12 +3,12 @@
 // replaced by hostile ones) must each either load into a valid scene or be refused with a
 // radiosity::Error, never crash, hang or throw anything else. Run it under the sanitizer build
 // (README) to catch memory errors too.
+#include <radiosity/geometry/patch_table.hpp>
 #include <radiosity/geometry/sampling.hpp>
 #include <radiosity/io/gltf.hpp>
 #include <radiosity/io/gltf_read.hpp>
 #include <radiosity/io/obj.hpp>
 #include <radiosity/io/rrv.hpp>
-#include <radiosity/mesh/patch_table.hpp>
 #include <radiosity/mesh/subdivide.hpp>
 
 #include <doctest/doctest.h>
@@ -237,7 +237,8 @@ TEST_CASE("OBJ/MTL reader: 3000 mutated files load (and subdivide) or are refuse
         try {
             const auto scene = read_obj<Rgb>((dir / "cli_two_squares.obj").string());
             const auto mesh = build_mesh(scene);
-            const PatchTable t = make_patch_table(subdivide(mesh, {0.4}));  // valid, finite
+            const PatchTable t =
+                make_patch_table(subdivide(mesh, {.max_edge = 0.4}));  // valid, finite
             for (std::size_t i = 0; i < t.size(); ++i) REQUIRE(std::isfinite(t.area(i)));
             ++loaded;
         } catch (const Error&) {

@@ -4,6 +4,7 @@
 #include <radiosity/io/gltf.hpp>
 
 #include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
 
 #include <cstring>
 #include <filesystem>
@@ -41,9 +42,10 @@ void check_document(const nlohmann::json& doc, const std::vector<std::uint8_t>& 
         const auto& v = views[acc[a]["bufferView"].get<int>()];
         const std::size_t n = acc[a]["count"].get<std::size_t>() * 3;
         REQUIRE(v["byteLength"].get<std::size_t>() == n * 4);
-        REQUIRE(v["byteOffset"].get<std::size_t>() + n * 4 <= bin.size());
+        const std::size_t offset = v.value("byteOffset", std::size_t{0});  // 0 may be left out
+        REQUIRE(offset + n * 4 <= bin.size());
         std::vector<float> out(n);
-        std::memcpy(out.data(), bin.data() + v["byteOffset"].get<std::size_t>(), n * 4);
+        std::memcpy(out.data(), bin.data() + offset, n * 4);
         return out;
     };
     const auto position = floats(prim["attributes"]["POSITION"].get<int>());

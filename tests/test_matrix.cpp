@@ -36,9 +36,10 @@ TEST_CASE("a solver over sparse rows gives the dense result") {
     method.prepare(t);
     const std::vector<float> E{1, 0, 0, 0, 0, 0}, R(6, 0.5f);
     const System<float> system{E, R, t.areas()};
-    const auto dense = GaussSeidel({1e-8, 1000}).solve(system, assemble_dense(method, t.size()));
-    const auto sparse =
-        GaussSeidel({1e-8, 1000}).solve(system, assemble_sparse(method, t.size(), 0.0f));
+    const auto dense = GaussSeidel({.tolerance = 1e-8, .max_iterations = 1000})
+                           .solve(system, assemble_dense(method, t.size()));
+    const auto sparse = GaussSeidel({.tolerance = 1e-8, .max_iterations = 1000})
+                            .solve(system, assemble_sparse(method, t.size(), 0.0f));
     for (std::size_t i = 0; i < 6; ++i)
         CHECK(sparse.radiosity[i] == doctest::Approx(dense.radiosity[i]).epsilon(1e-7));
 }

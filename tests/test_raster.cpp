@@ -4,6 +4,7 @@
 // degenerate, on pixel-centre ties and off the raster, are scanned and compared pixel by pixel
 // with that test made over the whole raster; and clip-space triangles give the same pixels
 // through rasterize_triangle (the camera's) and rasterize_depth (the hemicube's).
+#include <radiosity/detail/draw_nearest.hpp>
 #include <radiosity/geometry/raster.hpp>
 #include <radiosity/geometry/sampling.hpp>
 

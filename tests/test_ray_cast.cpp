@@ -4,6 +4,7 @@
 #include <radiosity/form_factor/analytic.hpp>
 #include <radiosity/form_factor/hemicube.hpp>
 #include <radiosity/form_factor/matrix.hpp>
+#include <radiosity/form_factor/pair_culling.hpp>
 #include <radiosity/form_factor/ray_cast.hpp>
 #include <radiosity/geometry/bvh.hpp>
 #include <radiosity/geometry/sampling.hpp>
@@ -90,7 +91,7 @@ TEST_CASE("bvh answers exactly as testing every triangle, on random rays in a cl
     // single-precision filter and double test): this checks the tree's traversal; the exact test
     // itself is checked against plain double arithmetic below.
     const PatchTable t = cluttered_room();
-    const Bvh bvh(t), brute(t, {16, 1 << 30});
+    const Bvh bvh(t), brute(t, {.bins = 16, .max_leaf_size = 1 << 30});
     REQUIRE(brute.node_count() == 1);
     Rng rng(7);
     std::vector<Vec3> xs, ys;
@@ -228,7 +229,7 @@ TEST_CASE("a larger square between two squares screens them completely: F = 0 ex
     ray_cast.prepare(t);
     CHECK(ray_cast.pair(0, 1) == 0.0);
     CHECK(ray_cast.pair(1, 0) == 0.0);
-    Analytic analytic({1e-6, 10, 16, 256, 1});
+    Analytic analytic({.visibility_samples = 16, .penumbra_samples = 256});
     analytic.prepare(t);
     CHECK(analytic.pair(0, 1) == 0.0);
 }
@@ -237,8 +238,8 @@ TEST_CASE("closed room with a block: every row of every method with visibility s
     // 256 penumbra rays per partly hidden pair (the analytic method's default; the ray-cast
     // default of 64 keeps rows within about 1.1% here, trading that for speed).
     const PatchTable t = room_with_block();
-    RayCast ray_cast({16, 256, 1, {}});
-    Analytic analytic({1e-6, 10, 16, 256, 1});
+    RayCast ray_cast({.samples = 16, .penumbra_samples = 256});
+    Analytic analytic({.visibility_samples = 16, .penumbra_samples = 256});
     Hemicube hemicube;
     ray_cast.prepare(t);
     analytic.prepare(t);
@@ -282,12 +283,12 @@ TEST_CASE("ray-cast rows are bit-identical for 1 and N threads") {
 }
 
 TEST_CASE("ray-cast options are checked") {
-    CHECK_THROWS_AS(RayCast({0, 256, 1, {}}), Error);
+    CHECK_THROWS_AS(RayCast({.samples = 0, .penumbra_samples = 256}), Error);
     RayCast unprepared;
     CHECK_THROWS_AS(unprepared.pair(0, 1), Error);
 }
 
-TEST_CASE("bvh: a pair with nothing between it and its walls needs no ray") {
+TEST_CASE("pair culling: a pair with nothing between it and its walls needs no ray") {
     // Floor and ceiling of an empty box: the walls lie on the pair's bounding box, so nothing
     // can block; with a block between them, something may.
     PatchTable empty;
@@ -295,9 +296,9 @@ TEST_CASE("bvh: a pair with nothing between it and its walls needs no ray") {
     const Bvh bvh(empty);
     const std::array<Vec3, 2> floor{empty.centroid(0), empty.normal(0)};
     const std::array<Vec3, 2> ceiling{empty.centroid(1), empty.normal(1)};
-    CHECK(!bvh.may_block(Vec3(0.0), Vec3(1.0), 0, 1, floor, ceiling, 1e-12));
+    CHECK(!may_block(bvh, Vec3(0.0), Vec3(1.0), 0, 1, floor, ceiling, 1e-12));
     PatchTable cluttered = empty;
     add_box(cluttered, Vec3(0.4), Vec3(0.6), 1, false);
     const Bvh with_block(cluttered);
-    CHECK(with_block.may_block(Vec3(0.0), Vec3(1.0), 0, 1, floor, ceiling, 1e-12));
+    CHECK(may_block(with_block, Vec3(0.0), Vec3(1.0), 0, 1, floor, ceiling, 1e-12));
 }

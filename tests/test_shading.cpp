@@ -118,6 +118,7 @@ TEST_CASE("smooth shading keeps a uniform radiosity uniform") {
     s.materials = {{0.0f, 0.5f, "grey"}};
     const ShadedMesh m = smooth_shading(mesh_with(s, std::vector<float>(9, 2.5f)));
     CHECK(m.positions.size() == 16);
+    REQUIRE(m.colours.size() == m.positions.size());
     for (const auto& c : m.colours) CHECK(c == glm::vec3(2.5f));
 }
 

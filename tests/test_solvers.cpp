@@ -10,16 +10,13 @@
 #include <radiosity/solver/progressive.hpp>
 
 #include "support/refdata.hpp"
+#include "support/threads.hpp"
 
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <cstring>
 #include <random>
-
-#if defined(RADIOSITY_WITH_OPENMP)
-#include <omp.h>
-#endif
 
 using namespace radiosity;
 
@@ -88,13 +85,13 @@ template <SpectrumType S>
 void every_solver_on_every_case() {
     for (const auto& name : cases) {
         check_case<S>(name, [](const System<S>& s, const DenseMatrix& F) {
-            return Jacobi({1e-7, 10000}).solve(s, F);
+            return Jacobi({.tolerance = 1e-7, .max_iterations = 10000}).solve(s, F);
         });
         check_case<S>(name, [](const System<S>& s, const DenseMatrix& F) {
-            return GaussSeidel({1e-7, 10000}).solve(s, F);
+            return GaussSeidel({.tolerance = 1e-7, .max_iterations = 10000}).solve(s, F);
         });
         check_case<S>(name, [](const System<S>& s, const DenseMatrix& F) {
-            return Progressive({1e-7, 0, 1 << 20, false}).solve(s, F);
+            return Progressive({.tolerance = 1e-7, .row_cache_bytes = 1 << 20}).solve(s, F);
         });
         check_case<S>(
             name, [](const System<S>& s, const DenseMatrix& F) { return Direct().solve(s, F); });
@@ -126,9 +123,9 @@ TEST_CASE("the solvers agree per band when the bands differ") {
             CHECK(band(reference.radiosity[i], b) ==
                   doctest::Approx(grey.radiosity[i]).epsilon(1e-6));
     }
-    for (auto s :
-         {Jacobi({1e-7, 10000}).solve(system, k.F), GaussSeidel({1e-7, 10000}).solve(system, k.F),
-          Progressive({1e-7, 0, 1 << 20, false}).solve(system, k.F)})
+    for (auto s : {Jacobi({.tolerance = 1e-7, .max_iterations = 10000}).solve(system, k.F),
+                   GaussSeidel({.tolerance = 1e-7, .max_iterations = 10000}).solve(system, k.F),
+                   Progressive({.tolerance = 1e-7, .row_cache_bytes = 1 << 20}).solve(system, k.F)})
         for (std::size_t i = 0; i < k.E.size(); ++i)
             for (int b = 0; b < 3; ++b)
                 CHECK(band(s.radiosity[i], b) ==
@@ -139,11 +136,11 @@ TEST_CASE("the report is honest: residual, iteration guard, cancellation") {
     const Case k = load("furnace_cube_rho0.9");
     const std::vector<float> E(k.E.begin(), k.E.end()), R(k.R.begin(), k.R.end());
     const System<float> system{E, R, k.area};
-    const auto capped = Jacobi({1e-9, 3}).solve(system, k.F);
+    const auto capped = Jacobi({.tolerance = 1e-9, .max_iterations = 3}).solve(system, k.F);
     CHECK(capped.report.iterations == 3);
     CHECK(!capped.report.converged);
     CHECK(capped.report.residual > 1e-9);
-    const auto gs = GaussSeidel({1e-6, 1000}).solve(system, k.F);
+    const auto gs = GaussSeidel({.tolerance = 1e-6, .max_iterations = 1000}).solve(system, k.F);
     CHECK(gs.report.converged);
     CHECK(gs.report.residual <= 1e-6);
     int calls = 0;
@@ -151,11 +148,13 @@ TEST_CASE("the report is honest: residual, iteration guard, cancellation") {
         CHECK(p.phase == "solve");
         return ++calls < 2;
     };
-    const auto cancelled = Jacobi({1e-9, 1000}).solve(system, k.F, stop);
+    const auto cancelled =
+        Jacobi({.tolerance = 1e-9, .max_iterations = 1000}).solve(system, k.F, stop);
     CHECK(cancelled.report.cancelled);
     CHECK(!cancelled.report.converged);
     CHECK(cancelled.report.iterations == 2);
-    const auto shots = Progressive({1e-9, 4, 0, false}).solve(system, k.F);
+    const auto shots = Progressive({.tolerance = 1e-9, .max_iterations = 4, .row_cache_bytes = 0})
+                           .solve(system, k.F);
     CHECK(shots.report.iterations == 4);
     CHECK(!shots.report.converged);
 }
@@ -169,8 +168,11 @@ TEST_CASE("the ambient term: exact for uniform unshot light, and it helps an ear
     for (float b : with_ambient<float>(system, E, E)) CHECK(b == doctest::Approx(10.0));
     // After 6 shots the unshot light is no longer uniform; with the term the picture is still
     // much closer to the answer than without it.
-    const auto plain = Progressive({1e-9, 6, 0, false}).solve(system, k.F);
-    const auto ambient = Progressive({1e-9, 6, 0, true}).solve(system, k.F);
+    const auto plain = Progressive({.tolerance = 1e-9, .max_iterations = 6, .row_cache_bytes = 0})
+                           .solve(system, k.F);
+    const auto ambient =
+        Progressive({.tolerance = 1e-9, .max_iterations = 6, .row_cache_bytes = 0, .ambient = true})
+            .solve(system, k.F);
     for (std::size_t i = 0; i < 6; ++i)
         CHECK(std::abs(ambient.radiosity[i] - 10.0) < 0.2 * std::abs(plain.radiosity[i] - 10.0));
 }
@@ -184,7 +186,7 @@ TEST_CASE("bad input is refused") {
     CHECK_THROWS_AS(GaussSeidel().solve(System<float>{E, bad_R, k.area}, k.F), Error);
     DenseMatrix small(2);
     CHECK_THROWS_AS(Direct().solve(System<float>{E, R, k.area}, small), Error);
-    CHECK_THROWS_AS(Direct({4}).solve(System<float>{E, R, k.area}, k.F), Error);
+    CHECK_THROWS_AS(Direct({.max_patches = 4}).solve(System<float>{E, R, k.area}, k.F), Error);
 }
 
 TEST_CASE("every solver stops when the progress callback says so") {
@@ -192,9 +194,10 @@ TEST_CASE("every solver stops when the progress callback says so") {
     const std::vector<float> E(k.E.begin(), k.E.end()), R(k.R.begin(), k.R.end());
     const System<float> system{E, R, k.area};
     const ProgressCallback stop = [](const Progress&) { return false; };
-    for (const auto& s : {GaussSeidel({1e-9, 1000}).solve(system, k.F, stop),
-                          Progressive({1e-9, 0, 0, false}).solve(system, k.F, stop),
-                          Direct().solve(system, k.F, stop)}) {
+    for (const auto& s :
+         {GaussSeidel({.tolerance = 1e-9, .max_iterations = 1000}).solve(system, k.F, stop),
+          Progressive({.tolerance = 1e-9, .row_cache_bytes = 0}).solve(system, k.F, stop),
+          Direct().solve(system, k.F, stop)}) {
         CAPTURE(s.report.solver);
         CHECK(s.report.cancelled);
         CHECK(!s.report.converged);
@@ -273,6 +276,53 @@ TEST_CASE("the dense gather is accurate to double rounding") {
     }
 }
 
+namespace {
+
+/// dense_dot's summation order, written out plainly (detail/dense_dot.hpp): term j goes to lane
+/// (j - begin) % 8, each lane adds its terms in order of j, and the lanes are summed as
+/// ((l0 + l1) + (l2 + l3)) + ((l4 + l5) + (l6 + l7)).
+double in_fixed_order(const float* f, const double* b, std::size_t begin, std::size_t end) {
+    double lane[8] = {};
+    for (std::size_t j = begin; j < end; ++j) lane[(j - begin) % 8] += double(f[j]) * b[j];
+    return ((lane[0] + lane[1]) + (lane[2] + lane[3])) +
+           ((lane[4] + lane[5]) + (lane[6] + lane[7]));
+}
+
+}  // namespace
+
+TEST_CASE("the dense gather adds in its fixed order, bit for bit, on the path this build takes") {
+    // The order is what makes the sums, and so B, the same on every thread and on either path
+    // (SSE2 or plain C++). Whichever path this build compiled is checked against the order
+    // written out above. Magnitudes spread over 16 decades, so that another order rounds
+    // differently: the sequential sum must differ somewhere, or the comparison could not fail.
+    const std::size_t n = 1003;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(0.0, 1.0), decade(-8.0, 8.0);
+    std::vector<float> f(n);
+    std::vector<double> B(3 * n);
+    for (float& x : f) x = static_cast<float>(u(rng));
+    for (double& x : B) x = u(rng) * std::pow(10.0, decade(rng));
+    std::size_t cases = 0, unlike_sequential = 0;
+    for (std::size_t begin : {0, 1, 5, 8})
+        for (std::size_t end : {begin, begin + 3, begin + 8, begin + 13, n - 7, n}) {
+            CAPTURE(begin);
+            CAPTURE(end);
+            double grey, rgb[3];
+            detail::dense_dot<1>(f.data(), B.data(), n, begin, end, &grey);
+            detail::dense_dot<3>(f.data(), B.data(), n, begin, end, rgb);
+            CHECK(grey == in_fixed_order(f.data(), B.data(), begin, end));
+            for (std::size_t k = 0; k < 3; ++k) {
+                const double expected = in_fixed_order(f.data(), B.data() + k * n, begin, end);
+                CHECK(rgb[k] == expected);
+                double sequential = 0.0;
+                for (std::size_t j = begin; j < end; ++j) sequential += double(f[j]) * B[k * n + j];
+                unlike_sequential += sequential != expected;
+                ++cases;
+            }
+        }
+    CHECK(unlike_sequential > cases / 4);
+}
+
 TEST_CASE("over dense rows the sweeps give the generic path's B") {
     // 2500 patches: enough to share the passes among threads (detail::worth_threads), and
     // neither a multiple of the blocks (256) nor of the 8 rows taken at a time. A fixed number of
@@ -291,24 +341,25 @@ TEST_CASE("over dense rows the sweeps give the generic path's B") {
                 CHECK(std::abs(a - b) <= 1e-12 * std::abs(b));
             }
     };
-    check_same(GaussSeidel({0.0, 12}).solve(system, s.F),
-               GaussSeidel({0.0, 12}).solve(system, generic));
-    check_same(Jacobi({0.0, 12}).solve(system, s.F), Jacobi({0.0, 12}).solve(system, generic));
+    check_same(GaussSeidel({.tolerance = 0.0, .max_iterations = 12}).solve(system, s.F),
+               GaussSeidel({.tolerance = 0.0, .max_iterations = 12}).solve(system, generic));
+    check_same(Jacobi({.tolerance = 0.0, .max_iterations = 12}).solve(system, s.F),
+               Jacobi({.tolerance = 0.0, .max_iterations = 12}).solve(system, generic));
 }
 
-TEST_CASE("the sweeps give bit-identical B for 1, 2 and 3 threads") {
-#if defined(RADIOSITY_WITH_OPENMP)
+TEST_CASE("the sweeps give bit-identical B for 1, 2 and 3 threads" *
+          doctest::skip(test::threads::without_openmp) *
+          doctest::description("needs OpenMP: without it every run is on one thread")) {
     const RandomSystem s = random_system(2500, 2);
-    REQUIRE(detail::worth_threads(2500, 3));
+    REQUIRE(detail::worth_threads(2500, 3));  // the sweeps and the residual pass are shared
     const System<Rgb> system{s.E, s.R, s.area};
-    const int before = omp_get_max_threads();
     std::vector<Solution<Rgb>> gs, jacobi;
     for (int threads : {1, 2, 3}) {
-        omp_set_num_threads(threads);
-        gs.push_back(GaussSeidel({1e-9, 1000}).solve(system, s.F));
-        jacobi.push_back(Jacobi({1e-9, 1000}).solve(system, s.F));
+        const test::threads::Forced forced(threads);
+        REQUIRE(test::threads::team_size() == threads);  // else the runs would compare nothing
+        gs.push_back(GaussSeidel({.tolerance = 1e-9, .max_iterations = 1000}).solve(system, s.F));
+        jacobi.push_back(Jacobi({.tolerance = 1e-9, .max_iterations = 1000}).solve(system, s.F));
     }
-    omp_set_num_threads(before);
     for (const auto* runs : {&gs, &jacobi})
         for (std::size_t t = 1; t < 3; ++t) {
             const auto &one = (*runs)[0], &other = (*runs)[t];
@@ -320,7 +371,4 @@ TEST_CASE("the sweeps give bit-identical B for 1, 2 and 3 threads") {
             CHECK(std::memcmp(other.radiosity.data(), one.radiosity.data(),
                               one.radiosity.size() * sizeof(Rgb)) == 0);
         }
-#else
-    MESSAGE("built without OpenMP: every run is single-threaded");
-#endif
 }

@@ -2,7 +2,7 @@
 // Benchmark scenes made directly as patch tables: a closed room whose walls are k x k grids,
 // optionally with blocks standing in it (occluders), so every form-factor method and the BVH can
 // be timed at any patch count without the rest of the pipeline.
-#include <radiosity/mesh/patch_table.hpp>
+#include <radiosity/geometry/patch_table.hpp>
 
 #include <algorithm>
 #include <vector>

@@ -42,7 +42,7 @@ class App {
   public:
     App(const ViewArgs& a, const Patches& patches, const radiosity::Camera& home)
         : patches_(patches),
-          window_(a.size_given ? a.width : 1280, a.size_given ? a.height : 800,
+          window_(a.size_given ? a.picture.width : 1280, a.size_given ? a.picture.height : 800,
                   "radiosity-view: " + a.scene.scene, true),
           ui_(window_.handle()),
           worker_(patches),

@@ -79,15 +79,15 @@ void draw_panels(const ViewArgs& a, const Patches& patches, SceneView& view, Sol
     PatchPanel patch_panel(patches);
     if (view.row()) patch_panel.pick(*view.row(), view.light_colours(s));
     for (int frame = 0; frame < 3; ++frame) {
-        view.draw(camera, s, a.width, a.height, frame == 0);
-        ui.begin_frame(glm::ivec2(a.width, a.height));
+        view.draw(camera, s, a.picture.width, a.picture.height, frame == 0);
+        ui.begin_frame(glm::ivec2(a.picture.width, a.picture.height));
         view_panel(s, control, view.scale(s));
         solve_panel.draw(s);
         patch_panel.draw(s, false);
         glBindFramebuffer(GL_FRAMEBUFFER, view.renderer().framebuffer());
         const GLenum display = GL_COLOR_ATTACHMENT0;
         glDrawBuffers(1, &display);
-        glViewport(0, 0, a.width, a.height);
+        glViewport(0, 0, a.picture.width, a.picture.height);
         ui.end_frame();
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
     }
@@ -103,7 +103,8 @@ void write_png(const std::string& path, int width, int height,
 
 int run_headless(const ViewArgs& a, const Patches& patches, const radiosity::Camera& camera) {
     // The window only provides the context: the pictures have their own framebuffer.
-    const Window window(a.ui ? a.width : 64, a.ui ? a.height : 64, "radiosity-view", false);
+    const Window window(a.ui ? a.picture.width : 64, a.ui ? a.picture.height : 64, "radiosity-view",
+                        false);
     SolveWorker worker(patches);
     solve(worker, a, patches.size());
     SceneView view(patches);
@@ -111,15 +112,16 @@ int run_headless(const ViewArgs& a, const Patches& patches, const radiosity::Cam
     ViewSettings s = initial_settings(a);
     if (!a.picks.empty()) {
         // Which patch each pixel sees; the light's exposure is measured before the row hides it.
-        view.draw(camera, s, a.width, a.height, true);
+        view.draw(camera, s, a.picture.width, a.picture.height, true);
         if (auto row = print_picks(a, patches, view, worker)) view.set_row(std::move(row));
     }
     if (!a.screenshot.empty()) {
         if (a.ui)
             draw_panels(a, patches, view, worker, window, s, camera);
         else
-            view.draw(camera, s, a.width, a.height, true);
-        write_png(a.screenshot, a.width, a.height, view.renderer().display_pixels());
+            view.draw(camera, s, a.picture.width, a.picture.height, true);
+        write_png(a.screenshot, a.picture.width, a.picture.height,
+                  view.renderer().display_pixels());
         if (!a.quiet) std::fprintf(stderr, "wrote %s\n", a.screenshot.c_str());
     }
     worker.cancel();

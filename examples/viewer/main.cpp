@@ -7,7 +7,8 @@
 #include "app.hpp"
 #include "headless.hpp"
 #include "patches.hpp"
-#include "program_options.hpp"
+#include "cli/scene.hpp"
+#include "cli/solve.hpp"
 #include "view_args.hpp"
 #include "window.hpp"
 
@@ -22,7 +23,7 @@ int main(int argc, char** argv) {
         const auto scene = radiosity::cli::load_scene(a.scene.scene);
         const Patches patches(scene, radiosity::cli::solve_options(a.scene, scene));
         const radiosity::Camera home =
-            radiosity::cli::chosen_camera(a.camera, a.scene.scene, scene);
+            radiosity::cli::chosen_camera(a.picture.camera, a.scene.scene, scene);
         return a.headless() ? run_headless(a, patches, home) : run_interactive(a, patches, home);
     } catch (const WindowError& e) {
         std::fprintf(stderr, "radiosity-view: error: %s\n", e.what());

@@ -6,15 +6,15 @@
 namespace radiosity::view {
 
 namespace {
-std::variant<radiosity::Analytic, radiosity::Hemicube, radiosity::RayCast> make_method(
+std::variant<radiosity::Analytic<>, radiosity::Hemicube, radiosity::RayCast<>> make_method(
     const radiosity::SolveOptions& o) {
     switch (o.form_factor) {
         case radiosity::FormFactorKind::analytic:
-            return radiosity::Analytic(o.analytic);
+            return radiosity::Analytic<>(o.analytic);
         case radiosity::FormFactorKind::hemicube:
             return radiosity::Hemicube(o.hemicube);
         case radiosity::FormFactorKind::ray_cast:
-            return radiosity::RayCast(o.ray_cast);
+            return radiosity::RayCast<>(o.ray_cast);
     }
     throw radiosity::Error("unknown form-factor method");
 }

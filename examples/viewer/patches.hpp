@@ -59,7 +59,7 @@ class Patches {
     radiosity::Mesh<Colour> mesh_;
     radiosity::PatchTable table_;
     std::vector<Colour> E_, R_;
-    std::variant<radiosity::Analytic, radiosity::Hemicube, radiosity::RayCast> method_;
+    std::variant<radiosity::Analytic<>, radiosity::Hemicube, radiosity::RayCast<>> method_;
 };
 
 }  // namespace radiosity::view

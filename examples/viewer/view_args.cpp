@@ -19,34 +19,25 @@ std::optional<std::array<int, 2>> parse_pixel(const std::string& s) {
 
 namespace {
 
-/// What the command line gives before it is checked: the --pick strings and --flat.
+/// What the command line gives before it is checked: the --pick strings.
 struct Raw {
     std::vector<std::string> picks;
-    bool flat = false;
-    CLI::Option* width = nullptr;
-    CLI::Option* height = nullptr;
 };
 
-/// The viewer's own option groups: the picture, headless runs, the live solve.
+/// The viewer's own option groups: the picture (the program's --width, --height, --camera,
+/// --fov, --flat and --exposure, and --mode), headless runs, the live solve.
 void add_view_options(CLI::App& app, ViewArgs& a, Raw& raw) {
-    auto* picture = app.add_option_group("Picture", "what the view shows, and from where");
-    raw.width = picture->add_option("--width", a.width, "picture width (--screenshot, --pick)")
-                    ->check(CLI::Range(1, 16384))
-                    ->capture_default_str();
-    raw.height = picture->add_option("--height", a.height, "picture height (--screenshot, --pick)")
-                     ->check(CLI::Range(1, 16384))
-                     ->capture_default_str();
-    picture->add_option("--exposure", a.exposure, "exposure compensation in stops")
-        ->check(CLI::Range(-64.0, 64.0))
-        ->capture_default_str();
-    picture->add_flag("--flat", raw.flat, "start in flat shading (as --mode flat)");
+    auto* picture = app.add_option_group(
+        "Picture",
+        "what the view shows, and from where; --width and --height size the pictures "
+        "of --screenshot and --pick, and the window when given");
+    radiosity::cli::add_view_options(*picture, a.picture);
     picture
         ->add_option("--mode", a.mode,
                      "what the surfaces show: wireframe (the patches' edges over flat shading), "
-                     "flat, smooth, reflectance or emission (keys 1 to 5)")
+                     "flat, smooth, reflectance or emission (keys 1 to 5); --flat: flat")
         ->check(CLI::IsMember({"wireframe", "flat", "smooth", "reflectance", "emission"}))
         ->capture_default_str();
-    radiosity::cli::add_camera_options(*picture, a.camera);
     auto* headless = app.add_option_group("Headless", "pictures and numbers without a window");
     headless->add_option("--screenshot", a.screenshot,
                          "after the solve, draw one frame into this PNG and exit");
@@ -76,15 +67,16 @@ int bad(const std::string& message) {
 }
 
 /// Checks what CLI11 cannot check alone and fills in the rest of a.
-std::optional<int> finish(ViewArgs& a, const Raw& raw) {
-    a.size_given = raw.width->count() > 0 || raw.height->count() > 0;
-    if (raw.flat) a.mode = "flat";
+std::optional<int> finish(const CLI::App& app, ViewArgs& a, const Raw& raw) {
+    a.size_given = app.count("--width") > 0 || app.count("--height") > 0;
+    if (a.picture.flat) a.mode = "flat";
     for (const std::string& p : raw.picks) {
         const auto xy = parse_pixel(p);
         if (!xy) return bad("--pick: '" + p + "' is not X,Y");
-        if ((*xy)[0] >= a.width || (*xy)[1] >= a.height)
-            return bad("--pick: pixel " + p + " lies outside the " + std::to_string(a.width) +
-                       " x " + std::to_string(a.height) + " picture");
+        if ((*xy)[0] >= a.picture.width || (*xy)[1] >= a.picture.height)
+            return bad("--pick: pixel " + p + " lies outside the " +
+                       std::to_string(a.picture.width) + " x " + std::to_string(a.picture.height) +
+                       " picture");
         a.picks.push_back(*xy);
     }
     if (!a.screenshot.empty() && std::filesystem::path(a.screenshot).extension() != ".png")
@@ -108,7 +100,7 @@ std::optional<int> parse_view_args(int argc, char** argv, ViewArgs& a) {
     Raw raw;
     add_view_options(app, a, raw);
     if (auto status = radiosity::cli::parse(app, argc, argv)) return status;
-    return finish(a, raw);
+    return finish(app, a, raw);
 }
 
 radiosity::SolverKind chosen_solver(const ViewArgs& a) {
@@ -119,7 +111,7 @@ ViewSettings initial_settings(const ViewArgs& a) {
     ViewSettings s;
     s.mode = parse_mode(a.mode).value_or(Mode::smooth);
     s.ambient = a.ambient;
-    s.stops = a.exposure;
+    s.stops = a.picture.exposure;
     return s;
 }
 

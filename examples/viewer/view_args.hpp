@@ -1,12 +1,14 @@
 #pragma once
 /// @file view_args.hpp  The viewer's command line: the `radiosity` program's scene, meshing,
-/// form-factor, solver and camera options (program_options.hpp: the same names, checks and
-/// defaults, but for the solver, which is progressive shooting here, the one to watch), the
-/// picture's size and exposure as the program has them, and the viewer's own: the starting mode,
-/// headless pictures and picks, and the live solve's settings.
+/// form-factor and solver options and its picture's size, camera, shading and exposure, declared
+/// by the program's own functions (examples/cli/options.hpp: one definition of each option;
+/// the solver defaults to progressive shooting here, the one to watch), and the viewer's own: the
+/// starting mode, headless pictures and picks, and the live solve's settings.
 
-#include "program_options.hpp"
+#include "cli/options.hpp"
 #include "view_settings.hpp"
+
+#include <radiosity/solve.hpp>
 
 #include <array>
 #include <cstddef>
@@ -18,13 +20,12 @@ namespace radiosity::view {
 
 /// Everything the viewer's command line sets.
 struct ViewArgs {
-    radiosity::cli::SceneArgs scene;        ///< scene, meshing, form factors, solver
-    radiosity::cli::CameraArgs camera;      ///< --camera, --fov
-    int width = 512, height = 512;          ///< picture size (--screenshot, --pick)
-    bool size_given = false;                ///< --width or --height given: the window's size too
-    double exposure = 0.0;                  ///< exposure compensation in stops
-    std::string mode = "smooth";            ///< wireframe, flat, smooth, reflectance, emission
-    std::string screenshot;                 ///< write one frame to this PNG and exit
+    radiosity::cli::SceneArgs scene;      ///< scene, meshing, form factors, solver
+    radiosity::cli::PictureArgs picture;  ///< size (--screenshot, --pick), camera, --flat, exposure
+                                          ///< (image and hdr are not declared here)
+    bool size_given = false;              ///< --width or --height given: the window's size too
+    std::string mode = "smooth";          ///< wireframe, flat, smooth, reflectance, emission
+    std::string screenshot;               ///< write one frame to this PNG and exit
     std::vector<std::array<int, 2>> picks;  ///< pixels whose patch and row to print, then exit
     bool ambient = false;                   ///< show shooting's ambient term
     bool ui = false;                        ///< headless pictures with the panels

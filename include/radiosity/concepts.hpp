@@ -2,12 +2,15 @@
 /// @file concepts.hpp  The customisation points of the library, each stated as a contract.
 /// A policy header ends with a static_assert that its type models its concept.
 
-#include <radiosity/mesh/patch_table.hpp>
+#include <radiosity/geometry/patch_table.hpp>
+#include <radiosity/geometry/vec.hpp>
 #include <radiosity/progress.hpp>
+#include <radiosity/solver/system.hpp>
 #include <radiosity/spectrum.hpp>
 
 #include <concepts>
 #include <cstddef>
+#include <cstdint>
 #include <span>
 
 namespace radiosity {
@@ -54,6 +57,50 @@ template <class Mx>
 concept AssembledMatrix = requires(const Mx& m, std::size_t i, void (*f)(std::size_t, float)) {
     { m.size() } -> std::convertible_to<std::size_t>;
     m.for_each_in_row(i, f);
+};
+
+/// An assembled matrix whose rows are stored as contiguous floats: `m.row(i)` views the n
+/// entries F_i0 .. F_i(n-1). The sweeping solvers then gather with the vectorised dense kernel
+/// (detail/dense_dot.hpp) instead of visiting entries one at a time.
+template <class Mx>
+concept DenseRowMatrix = AssembledMatrix<Mx> && requires(const Mx& m, std::size_t i) {
+    { m.row(i) } -> std::convertible_to<std::span<const float>>;
+};
+
+/// A solver of the radiosity system (solver/system.hpp): `solver.solve(system, F, progress)`
+/// returns B and a Report. F is an assembled matrix (Jacobi, Gauss-Seidel, direct) or, for
+/// progressive shooting, any RowSource, so that rows can be computed on demand.
+template <class X, class S, class Mx>
+concept Solver = SpectrumType<S> &&
+    requires(const X& solver, const System<S>& system, const Mx& F, const ProgressCallback& p) {
+    { solver.solve(system, F, p) } -> std::same_as<Solution<S>>;
+};
+
+/// Something that answers "is the segment p -> q blocked?", the visibility term V of the form
+/// factor: `v.occluded(p, q, a, b)` is true if the open segment between p and q meets any
+/// surface other than patches a and b (the patches the segment starts and ends on, which must
+/// not block it). Must be const and thread-safe. Form-factor methods build theirs over their
+/// patch table, V(table) (RayCast<V>, Analytic<V>). Models: Bvh (geometry/bvh.hpp, the default),
+/// BruteForceVisibility (geometry/brute_force_visibility.hpp, the definition), EmbreeVisibility
+/// (geometry/embree.hpp, optional).
+template <class V>
+concept Visibility = requires(const V& v, const Vec3& p, const Vec3& q, std::uint32_t a,
+                              std::uint32_t b) {
+    { v.occluded(p, q, a, b) } -> std::convertible_to<bool>;
+};
+
+/// Optional capability of a Visibility: pair culling, proving without a ray that nothing can
+/// stand between two patches (may_block, form_factor/pair_culling.hpp), so that a method casts
+/// no ray for such a pair (a method without it casts rays for every pair, with the same answers).
+/// It needs a walk of the model's triangles box by box: `v.any_triangle(enter, test)` opens only
+/// the boxes (lo, hi) that enter accepts, passes each triangle in them to test until one returns
+/// true, and returns whether one did; `v.box_slack()` bounds how far a box may reach beyond what
+/// it holds, in any direction. Model: Bvh.
+template <class V>
+concept PairCulling = Visibility<V> && requires(const V& v, bool (*enter)(const Vec3&, const Vec3&),
+                                                bool (*test)(const PatchTriangle&)) {
+    { v.any_triangle(enter, test) } -> std::convertible_to<bool>;
+    { v.box_slack() } -> std::convertible_to<double>;
 };
 
 }  // namespace radiosity

@@ -2,8 +2,8 @@
 // Loads ../shared/refdata/cases.json: reference cases with exact answers from the heat-transfer
 // literature. Tests compare the library against these, never against its own earlier output.
 
+#include <radiosity/geometry/patch_table.hpp>
 #include <radiosity/geometry/vec.hpp>
-#include <radiosity/mesh/patch_table.hpp>
 
 #include <nlohmann/json.hpp>
 

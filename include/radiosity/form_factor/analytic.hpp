@@ -12,16 +12,18 @@
 /// (then the result is no longer exact where something is in the way, but it is consistent).
 
 #include <radiosity/concepts.hpp>
+#include <radiosity/config.hpp>
 #include <radiosity/error.hpp>
 #include <radiosity/form_factor/visibility.hpp>
 #include <radiosity/geometry/bvh.hpp>
+#include <radiosity/geometry/patch_table.hpp>
 #include <radiosity/geometry/polygon.hpp>
 #include <radiosity/geometry/sampling.hpp>
-#include <radiosity/mesh/patch_table.hpp>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <concepts>
 #include <cstdint>
 #include <memory>
 #include <numbers>
@@ -162,15 +164,27 @@ inline bool behind_plane(std::span<const Vec3> p, const Vec3& origin, const Vec3
     });
 }
 
-}  // namespace detail
-
-namespace detail {
 /// True unless one patch lies entirely behind the other's plane: one-sided patches that do not
 /// face each other exchange nothing.
 inline bool facing(const PatchTable& t, std::size_t a, std::size_t b) {
     return !behind_plane(t.polygon(b), t.centroid(a), t.normal(a)) &&
            !behind_plane(t.polygon(a), t.centroid(b), t.normal(b));
 }
+
+/// The two patches of a pair in the order the exchange integral takes them: over the outer one,
+/// of the form factor to the inner one.
+struct IntegrationOrder {
+    std::size_t outer, inner;
+};
+
+/// Pair (i, j) ordered so that the integral runs over the smaller patch (fewer points for the
+/// same accuracy), ties broken by index: (i, j) and (j, i) give the same order, so the exchange
+/// A_i F_ij = A_j F_ji is one number both ways (reciprocity by construction).
+inline IntegrationOrder integration_order(const PatchTable& t, std::size_t i, std::size_t j) {
+    const bool outer_is_i = t.area(i) < t.area(j) || (t.area(i) == t.area(j) && i < j);
+    return outer_is_i ? IntegrationOrder{i, j} : IntegrationOrder{j, i};
+}
+
 }  // namespace detail
 
 /// The exchange integral A_a F_a->b = integral over polygon a (unit normal n_a) of F_dA->b, by
@@ -199,8 +213,12 @@ inline double exchange_integral(std::span<const Vec3> a, const Vec3& n_a, std::s
 /// Area-to-area form factors by the analytic method: F_ij = (1/A_i) integral over A_i of
 /// F_dA->A_j (the contour integral above), by adaptive quadrature. Reciprocity is exact by
 /// construction: the integral is taken over the smaller patch of the pair and divided by A_i
-/// or A_j. No visibility (see the file comment). Cost per pair: 35 contour integrals for
-/// well-separated patches, more near shared edges; a row costs O(n) pairs.
+/// or A_j. No visibility (see the file comment) unless visibility_samples > 0: then times a
+/// visible fraction from rays through V, the BVH by default (`Analytic method(options)` is
+/// Analytic<Bvh>), or any Visibility built over the patch table. Cost per pair: 35 contour
+/// integrals for well-separated patches, more near shared edges; a row costs O(n) pairs.
+template <class V = Bvh>
+requires Visibility<V> && std::constructible_from<V, const PatchTable&>
 class Analytic {
   public:
     /// A method with the given settings; throws Error for a non-positive tolerance or depth.
@@ -215,30 +233,31 @@ class Analytic {
     }
 
     /// Keeps a reference to the patch table (which must outlive the method's use), and builds
-    /// a BVH over it when visibility is asked for.
+    /// the visibility model over it when visibility is asked for.
     void prepare(const PatchTable& patches) {
         patches_ = &patches;
-        if (options_.visibility_samples > 0) bvh_ = std::make_shared<const Bvh>(patches);
+        if (options_.visibility_samples > 0) visibility_ = std::make_shared<const V>(patches);
     }
 
     /// F_ij for one pair (0 for i == j, planar patches do not see themselves).
     double pair(std::size_t i, std::size_t j) const { return exchange(i, j) / table().area(i); }
 
-    /// The exchange A_i F_ij = A_j F_ji: the same number both ways (ReciprocalFormFactor).
+    /// The exchange A_i F_ij = A_j F_ji: the same number both ways (ReciprocalFormFactor): the
+    /// integral over the smaller patch, times its visible fraction when visibility is on.
     double exchange(std::size_t i, std::size_t j) const {
         if (i == j) return 0.0;
-        const PatchTable& t = table();
-        const bool outer_is_i = t.area(i) < t.area(j) || (t.area(i) == t.area(j) && i < j);
-        const std::size_t outer = outer_is_i ? i : j, inner = outer_is_i ? j : i;
+        RADIOSITY_ASSERT(i < table().size() && j < table().size());
+        const auto [outer, inner] = detail::integration_order(table(), i, j);
         const double x = area_integral(outer, inner);
-        if (x == 0.0 || !bvh_) return x;
-        return x * visibility(outer, inner);
+        if (x == 0.0 || !visibility_) return x;
+        return x * visible_fraction(outer, inner);
     }
 
     double area(std::size_t i) const { return table().area(i); }  ///< A_i
 
     /// Row i: F_ij for every patch j (RowSource).
     void row(std::size_t i, std::span<float> out) const {
+        RADIOSITY_ASSERT(out.size() == table().size());
         for (std::size_t j = 0; j < out.size(); ++j) out[j] = static_cast<float>(pair(i, j));
     }
 
@@ -252,14 +271,14 @@ class Analytic {
 
     /// Kernel-weighted visible fraction of the pair from k x k jittered sample pairs, with the
     /// pair's own random stream (the same whichever row asks).
-    double visibility(std::size_t outer, std::size_t inner) const {
+    double visible_fraction(std::size_t outer, std::size_t inner) const {
         const PatchTable& t = table();
         Rng rng(pair_seed(options_.seed, outer, inner));
         const int k = static_cast<int>(std::ceil(std::sqrt(double(options_.visibility_samples))));
         std::vector<Vec3> xs, ys;
         jittered_pairs(t.polygon(outer), t.polygon(inner), k, rng, xs, ys);
-        return pair_visible_fraction(*bvh_, t, outer, inner, xs, ys, options_.penumbra_samples,
-                                     rng);
+        return pair_visible_fraction(*visibility_, t, outer, inner, xs, ys,
+                                     options_.penumbra_samples, rng);
     }
 
     /// A_outer F_outer,inner, or 0 when the two do not face each other.
@@ -271,9 +290,9 @@ class Analytic {
 
     AnalyticOptions options_;
     const PatchTable* patches_ = nullptr;
-    std::shared_ptr<const Bvh> bvh_;  // only with visibility_samples > 0
+    std::shared_ptr<const V> visibility_;  // only with visibility_samples > 0
 };
 
-static_assert(ReciprocalFormFactor<Analytic>);
+static_assert(ReciprocalFormFactor<Analytic<>>);
 
 }  // namespace radiosity

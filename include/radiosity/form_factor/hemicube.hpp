@@ -7,17 +7,23 @@
 /// light that strikes its back is absorbed, as for every one-sided patch).
 
 #include <radiosity/concepts.hpp>
+#include <radiosity/config.hpp>
+#include <radiosity/detail/draw_nearest.hpp>
 #include <radiosity/error.hpp>
+#include <radiosity/geometry/patch_table.hpp>
 #include <radiosity/geometry/raster.hpp>
 #include <radiosity/geometry/sampling.hpp>
-#include <radiosity/mesh/patch_table.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <numbers>
 #include <span>
+#include <string>
+#include <utility>
 #include <vector>
 
 #if defined(__SSE2__)
@@ -165,6 +171,46 @@ struct FaceProjection {
     std::vector<std::uint8_t> inside;
 };
 
+/// The frame of one hemicube: its centre c and axes u, v (tangents) and n (the normal). Puts a
+/// vertex into it, writing its coordinates to a HemicubeView, and returns the vertex's outcode:
+/// with SSE2 the two tangent coordinates at once (the same roundings as one at a time).
+struct HemicubeFrame {
+    Vec3 c, u, v, n;
+    double near;
+#if defined(__SSE2__)
+    __m128d ux, uy, uz;  // (u, v) by component
+#endif
+
+    HemicubeFrame(const Vec3& centre, const std::array<Vec3, 3>& axes, double near_plane)
+        : c(centre), u(axes[0]), v(axes[1]), n(axes[2]), near(near_plane) {
+#if defined(__SSE2__)
+        ux = _mm_set_pd(v.x, u.x);
+        uy = _mm_set_pd(v.y, u.y);
+        uz = _mm_set_pd(v.z, u.z);
+#endif
+    }
+
+    /// Vertex k at p in the frame: (u, v, n) coordinates of p - c into seen.axis, and the code.
+    std::uint32_t to_frame(const Vec3& p, std::uint32_t k, HemicubeView& seen) const {
+        const Vec3 d = p - c;
+        const double h = glm::dot(d, n);
+        seen.axis[2][k] = h;
+#if defined(__SSE2__)
+        const __m128d ab = _mm_add_pd(
+            _mm_add_pd(_mm_mul_pd(_mm_set1_pd(d.x), ux), _mm_mul_pd(_mm_set1_pd(d.y), uy)),
+            _mm_mul_pd(_mm_set1_pd(d.z), uz));
+        _mm_storel_pd(&seen.axis[0][k], ab);
+        _mm_storeh_pd(&seen.axis[1][k], ab);
+        return Outcode::of(ab, h, near);
+#else
+        const double a = glm::dot(d, u), b = glm::dot(d, v);
+        seen.axis[0][k] = a;
+        seen.axis[1][k] = b;
+        return Outcode::of(a, b, h, near);
+#endif
+    }
+};
+
 /// The buffers of one hemicube, kept by each thread from row to row so that a row allocates
 /// and clears only what it must (rows are computed by the thousand).
 struct HemicubeWorkspace {
@@ -214,9 +260,12 @@ class Hemicube {
     }
 
     /// Row i: F_ij for every patch j, from the hemicube at the centroid of patch i (RowSource).
+    /// Steps: what each face may show (view); per face, the item buffer and the sum of the
+    /// delta form factors of each patch's pixels; the patches seen from behind dropped.
     void row(std::size_t i, std::span<float> out) const {
         const PatchTable& t = table();
         if (out.size() != t.size()) throw Error("hemicube: row needs one entry per patch");
+        RADIOSITY_ASSERT(i < t.size());
         thread_local detail::HemicubeWorkspace work;
         view(i, work.seen);
         std::vector<double>& F = work.F;
@@ -225,14 +274,7 @@ class Hemicube {
             item_buffer(work.seen, k, work.id, work.depth, work.projected);
             accumulate(k > 0 ? side_prefix_ : top_prefix_, work.id, work.starts, F);
         }
-        // A patch seen from behind keeps its pixels (it occludes) but takes nothing: the light
-        // that strikes its back is absorbed.
-        const Vec3& c = t.centroid(i);
-        // Most patches are not seen at all: test the side only of those that are.
-        for (std::size_t j = 0; j < t.size(); ++j)
-            out[j] = F[j] != 0.0 && glm::dot(c - t.centroid(j), t.normal(j)) > 0.0
-                         ? static_cast<float>(F[j])
-                         : 0.0f;
+        front_sides_only(i, F, out);
     }
 
     /// The item buffers of patch i's hemicube, for teaching and debugging: for the top face and
@@ -269,12 +311,27 @@ class Hemicube {
         return *patches_;
     }
 
+    /// out_j = F_j for the patches j that show patch i their front, else 0: a patch seen from
+    /// behind keeps its pixels (it occludes) but takes nothing, as the light that strikes its
+    /// back is absorbed.
+    void front_sides_only(std::size_t i, const std::vector<double>& F, std::span<float> out) const {
+        const PatchTable& t = table();
+        const Vec3& c = t.centroid(i);
+        // Most patches are not seen at all: test the side only of those that are.
+        for (std::size_t j = 0; j < t.size(); ++j)
+            out[j] = F[j] != 0.0 && glm::dot(c - t.centroid(j), t.normal(j)) > 0.0
+                         ? static_cast<float>(F[j])
+                         : 0.0f;
+    }
+
     /// Where each patch's vertices start in the table's one vertex array, and the radius of a
-    /// sphere about its centroid that holds it (to skip patches below a horizon at once).
+    /// sphere about its centroid that holds it (to skip patches below a horizon at once). The
+    /// rows read every vertex through that one array (PatchTable::vertices), by these offsets.
     void index_patches(const PatchTable& patches) {
         first_.assign(1, 0);
         radius_.assign(patches.size(), 0.0);
         for (std::size_t j = 0; j < patches.size(); ++j) {
+            RADIOSITY_ASSERT(patches.polygon(j).data() == patches.vertices().data() + first_[j]);
             first_.push_back(first_.back() + static_cast<std::uint32_t>(patches.polygon(j).size()));
             for (const Vec3& p : patches.polygon(j))
                 radius_[j] = std::max(radius_[j], glm::length(p - patches.centroid(j)));
@@ -297,6 +354,7 @@ class Hemicube {
             draw(j, seen, face, s, projected.inside[n] != 0, w, h, id, depth);
             s += first_[j + 1] - first_[j];
         }
+        RADIOSITY_ASSERT(s <= projected.screen.data() + projected.screen.size());
     }
 
     /// Projects the vertices of the patches listed for face k onto its w x h raster (see
@@ -396,37 +454,16 @@ class Hemicube {
     void view(std::size_t i, detail::HemicubeView& seen) const {
         const PatchTable& t = table();
         const Vec3& c = t.centroid(i);
-        const auto [u, v, n] = frame(i);
+        const detail::HemicubeFrame hemicube(c, frame(i), near_);
         const std::size_t m = first_.back();
         for (auto& a : seen.axis) a.resize(m);  // entries are written before they are read
         for (auto& list : seen.patches) list.clear();
-        const Vec3* p = m > 0 ? t.polygon(0).data() : nullptr;  // all polygons, one array
-#if defined(__SSE2__)
-        const __m128d ux = _mm_set_pd(v.x, u.x), uy = _mm_set_pd(v.y, u.y),
-                      uz = _mm_set_pd(v.z, u.z);
-#endif
+        const Vec3* p = t.vertices().data();  // all polygons, one array (index_patches)
         for (std::size_t j = 0; j < t.size(); ++j) {
-            if (glm::dot(t.centroid(j) - c, n) + radius_[j] <= 0.0 || j == i) continue;
-            auto to_frame = [&](std::uint32_t k) {  // vertex k in the frame, kept for draw()
-                const Vec3 d = p[k] - c;
-                const double h = glm::dot(d, n);
-                seen.axis[2][k] = h;
-#if defined(__SSE2__)
-                const __m128d ab = _mm_add_pd(
-                    _mm_add_pd(_mm_mul_pd(_mm_set1_pd(d.x), ux), _mm_mul_pd(_mm_set1_pd(d.y), uy)),
-                    _mm_mul_pd(_mm_set1_pd(d.z), uz));
-                _mm_storel_pd(&seen.axis[0][k], ab);
-                _mm_storeh_pd(&seen.axis[1][k], ab);
-                return detail::Outcode::of(ab, h, near_);
-#else
-                const double a = glm::dot(d, u), b = glm::dot(d, v);
-                seen.axis[0][k] = a;
-                seen.axis[1][k] = b;
-                return detail::Outcode::of(a, b, h, near_);
-#endif
-            };
+            if (glm::dot(t.centroid(j) - c, hemicube.n) + radius_[j] <= 0.0 || j == i) continue;
             std::uint32_t shared = ~0u;  // the planes all its vertices lie beyond
-            for (std::uint32_t k = first_[j]; k < first_[j + 1]; ++k) shared &= to_frame(k);
+            for (std::uint32_t k = first_[j]; k < first_[j + 1]; ++k)
+                shared &= hemicube.to_frame(p[k], k, seen);
             if (shared & detail::Outcode::horizon) continue;  // below the horizon
             for (std::size_t f = 0; f < 5; ++f)
                 if (!(shared & detail::Outcode::face[f]))
@@ -467,6 +504,7 @@ class Hemicube {
     /// advances the list's end only where the patch changes.
     static void accumulate(const std::vector<double>& prefix, const std::vector<std::int32_t>& id,
                            std::vector<std::uint32_t>& starts, std::vector<double>& F) {
+        RADIOSITY_ASSERT(prefix.size() == id.size() + 1 && !id.empty());
         if (starts.size() < id.size() + 1) starts.resize(id.size() + 1);  // never shrinks
         std::size_t n = 0;
         starts[n++] = 0;

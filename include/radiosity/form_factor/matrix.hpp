@@ -6,103 +6,22 @@
 /// row sums sum_j F_ij = 1.
 
 #include <radiosity/concepts.hpp>
+#include <radiosity/detail/parallel.hpp>
+#include <radiosity/detail/zeroed_memory.hpp>
 #include <radiosity/error.hpp>
 #include <radiosity/progress.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <concepts>
 #include <cstddef>
 #include <cstdint>
-#include <cstring>
 #include <new>
 #include <string>
 #include <span>
 #include <utility>
 #include <vector>
 
-#if defined(RADIOSITY_WITH_OPENMP)
-#include <omp.h>
-#endif
-#if defined(__linux__)
-#include <sys/mman.h>
-#endif
-
 namespace radiosity {
-
-namespace detail {
-
-/// Faults in the pages of a fresh mapping with all threads at once, 16 MiB at a time:
-/// MADV_POPULATE_WRITE (Linux 5.14) where the kernel has it, else a write to each page.
-inline void fault_in(std::byte* p, std::size_t bytes) {
-    constexpr std::size_t chunk = std::size_t{16} << 20, page = 4096;
-    const auto chunks = static_cast<std::int64_t>((bytes + chunk - 1) / chunk);
-#if defined(RADIOSITY_WITH_OPENMP)
-#pragma omp parallel for schedule(static)
-#endif
-    for (std::int64_t c = 0; c < chunks; ++c) {
-        std::byte* const a = p + static_cast<std::size_t>(c) * chunk;
-        const std::size_t size = std::min(chunk, bytes - static_cast<std::size_t>(c) * chunk);
-#if defined(MADV_POPULATE_WRITE)
-        if (madvise(a, size, MADV_POPULATE_WRITE) == 0) continue;
-#endif
-        for (std::size_t k = 0; k < size; k += page)
-            *static_cast<volatile std::byte*>(a + k) = std::byte{0};
-    }
-}
-
-/// The allocator of a dense matrix: memory that reads as zero, without one thread writing
-/// hundreds of megabytes of zeros. Large blocks come from the kernel (an anonymous mapping, whose
-/// pages are zero) and are faulted in by all threads at once: 0.07 s for 10,448 patches on two
-/// cores, against 0.24 s for clearing the same bytes on one. Small ones are cleared as usual.
-template <class T>
-struct ZeroedAllocator {
-    using value_type = T;
-    static constexpr std::size_t mapped = std::size_t{64} << 20;  // from 64 MiB on
-
-    ZeroedAllocator() = default;
-    template <class U>
-    ZeroedAllocator(const ZeroedAllocator<U>&) {}
-
-    T* allocate(std::size_t n) {
-        const std::size_t bytes = n * sizeof(T);
-#if defined(__linux__)
-        if (bytes >= mapped) {
-            void* p =
-                mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-            if (p == MAP_FAILED) throw std::bad_alloc();
-            fault_in(static_cast<std::byte*>(p), bytes);
-            return static_cast<T*>(p);
-        }
-#endif
-        void* p = ::operator new(bytes);
-        std::memset(p, 0, bytes);
-        return static_cast<T*>(p);
-    }
-    void deallocate(T* p, std::size_t n) {
-#if defined(__linux__)
-        if (n * sizeof(T) >= mapped) {
-            munmap(p, n * sizeof(T));
-            return;
-        }
-#endif
-        ::operator delete(p);
-    }
-    /// Elements made without a value keep the zero bytes the memory came with.
-    template <class U>
-    void construct(U*) {}
-    template <class U, class... A>
-    void construct(U* p, A&&... a) {
-        ::new (static_cast<void*>(p)) U(std::forward<A>(a)...);
-    }
-    template <class U>
-    bool operator==(const ZeroedAllocator<U>&) const {
-        return true;
-    }
-};
-
-}  // namespace detail
 
 /// Dense n x n form-factor matrix stored row-major in float (4 n^2 bytes).
 class DenseMatrix {
@@ -147,14 +66,6 @@ class DenseMatrix {
     std::vector<float, detail::ZeroedAllocator<float>> f_;
 };
 
-/// An assembled matrix whose rows are stored as contiguous floats: `m.row(i)` views the n
-/// entries F_i0 .. F_i(n-1). The sweeping solvers then gather with the vectorised dense kernel
-/// (detail/dense_dot.hpp) instead of visiting entries one at a time.
-template <class Mx>
-concept DenseRowMatrix = AssembledMatrix<Mx> && requires(const Mx& m, std::size_t i) {
-    { m.row(i) } -> std::convertible_to<std::span<const float>>;
-};
-
 /// Sparse rows (compressed sparse row): only entries above a threshold are kept. Dropping small
 /// entries loses energy, which check_matrix reports as row sums below 1.
 class SparseMatrix {
@@ -197,39 +108,6 @@ class SparseMatrix {
 };
 
 static_assert(DenseRowMatrix<DenseMatrix> && !DenseRowMatrix<SparseMatrix>);
-
-namespace detail {
-/// This thread's index in its OpenMP team (0 outside a parallel region or without OpenMP).
-inline int thread_index() {
-#if defined(RADIOSITY_WITH_OPENMP)
-    return omp_get_thread_num();
-#else
-    return 0;
-#endif
-}
-
-/// Runs body(i) for every row i, in parallel with OpenMP when available, reporting progress from
-/// the first thread only (the callback need not be thread-safe) and stopping (by throwing
-/// Cancelled) when the callback asks to.
-template <class Body>
-void for_each_row(std::size_t n, const ProgressCallback& progress, Body&& body) {
-    std::atomic<std::size_t> done{0};
-    std::atomic<bool> cancel{false};
-    const auto count = static_cast<std::int64_t>(n);
-#if defined(RADIOSITY_WITH_OPENMP)
-#pragma omp parallel for schedule(dynamic, 4)
-#endif
-    for (std::int64_t i = 0; i < count; ++i) {
-        if (cancel.load(std::memory_order_relaxed)) continue;
-        body(static_cast<std::size_t>(i));
-        const std::size_t d = ++done;
-        if (thread_index() == 0 && !detail::report(progress, "form factors",
-                                                   static_cast<double>(d) / static_cast<double>(n)))
-            cancel = true;
-    }
-    if (cancel) throw Cancelled();
-}
-}  // namespace detail
 
 /// Assembles the dense n x n matrix, one row per patch. Cost: n rows of the method.
 /// A method that is reciprocal by construction (ReciprocalFormFactor) computes each pair once:

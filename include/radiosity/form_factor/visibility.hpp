@@ -3,9 +3,10 @@
 /// kernel-weighted fraction of sample pairs whose connecting segment is unblocked. Shared by the
 /// ray-cast method and the analytic method's optional visibility.
 
-#include <radiosity/geometry/bvh.hpp>
+#include <radiosity/concepts.hpp>
+#include <radiosity/config.hpp>
+#include <radiosity/geometry/patch_table.hpp>
 #include <radiosity/geometry/sampling.hpp>
-#include <radiosity/mesh/patch_table.hpp>
 #include <radiosity/geometry/vec.hpp>
 
 #include <cmath>
@@ -45,6 +46,7 @@ template <Visibility V>
 VisibilitySums visibility_sums(const V& visibility, std::span<const Vec3> xs, const Vec3& nx,
                                std::span<const Vec3> ys, const Vec3& ny, std::uint32_t a,
                                std::uint32_t b) {
+    RADIOSITY_ASSERT(xs.size() == ys.size());
     VisibilitySums sums;
     for (std::size_t s = 0; s < xs.size(); ++s) {
         const double k = form_factor_kernel(xs[s], nx, ys[s], ny);

@@ -7,22 +7,25 @@
 #error "radiosity/geometry/embree.hpp needs the library configured with RADIOSITY_WITH_EMBREE=ON"
 #endif
 
+#include <radiosity/concepts.hpp>
 #include <radiosity/error.hpp>
-#include <radiosity/geometry/bvh.hpp>
-#include <radiosity/mesh/patch_table.hpp>
+#include <radiosity/geometry/patch_table.hpp>
+#include <radiosity/geometry/vec.hpp>
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
-#include <memory>
 #include <vector>
 
 namespace radiosity {
 
 /// Visibility through Embree: the patches' fan triangles in one Embree scene (single
 /// precision), occlusion rays with a context filter that ignores the two end patches.
-/// Build: Embree's default SAH builder. Thread-safe queries.
+/// Build: Embree's default SAH builder. Thread-safe queries. No pair culling (PairCulling):
+/// RayCast<EmbreeVisibility> casts rays for every pair.
 class EmbreeVisibility {
   public:
     /// Builds the Embree scene over the patches. Throws Error if Embree cannot start.

@@ -2,13 +2,17 @@
 /// @file raster.hpp  The one triangle rasteriser of the library, shared by the hemicube (which
 /// draws patch ids into five small z-buffers) and the camera (which draws Gouraud-shaded
 /// pictures): homogeneous near-plane clipping, edge functions with the top-left fill rule, and
-/// perspective-correct barycentric coordinates (Pineda 1988; Heckbert & Moreton 1991).
+/// perspective-correct barycentric coordinates (Pineda 1988; Heckbert & Moreton 1991). Here is
+/// the plain path: clip, project, snap to fixed point, step the edge functions pixel by pixel
+/// (step_rows). Its fast paths cover exactly the same pixels: wide boxes walked edge by edge
+/// (walk_rows, detail/raster_walk.hpp) and the hemicube's branch-free z-buffer (draw_nearest,
+/// detail/draw_nearest.hpp).
 
+#include <radiosity/config.hpp>
 #include <radiosity/geometry/vec.hpp>
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -160,83 +164,6 @@ inline bool owns_edge(const ScreenVertex& a, const ScreenVertex& b) {
     return dy > 0 || (dy == 0 && dx < 0);
 }
 
-/// Floor division n = q a + r with 0 <= r < a, for a > 0 and |n / a| < 2^52, without an integer
-/// division (tens of cycles): the quotient is estimated in floating point from an estimate of
-/// 1 / a (a few ulps off), and corrected by exact integer tests. Rounding and truncation leave
-/// the estimate between 1 below and 2 above the true quotient, so two rounds of corrections
-/// reach it; they use sign masks, not branches, which mispredict here.
-struct FloorDivision {
-    std::int64_t q, r;
-};
-
-inline FloorDivision floor_divide(std::int64_t n, std::int64_t a, double inv_a) {
-    auto q = static_cast<std::int64_t>(static_cast<double>(n) * inv_a);
-    std::int64_t r = n - q * a;
-    for (int k = 0; k < 2; ++k) {
-        const std::int64_t below = r >> 63;  // -1 where r < 0 (arithmetic shift, C++20)
-        q += below;
-        r += a & below;
-        const std::int64_t above = (a - 1 - r) >> 63;  // -1 where r >= a
-        q -= above;
-        r -= a & above;
-    }
-    return {q, r};
-}
-
-/// One edge of a triangle walked down its rows (an exact DDA, as Bresenham's line algorithm):
-/// t is where the edge cuts the current row, in columns counted from the left of the bounding
-/// box: for a left edge the first column it lets in, for a right edge the first it keeps out.
-/// The edge's function along the row is u + a x (a > 0; see edge_walker), and r = u + a t in
-/// [0, a) is its remainder at t. A row down adds q a + rem to u, so t moves by -q, or by -q - 1
-/// when r + rem carries past a: one compare per edge and row, where stepping across the box
-/// costs one per pixel and a mispredicted branch at each end of the run.
-struct EdgeWalker {
-    std::int64_t t, r, a, q, rem;
-
-    void next_row() {
-        r += rem;
-        const std::int64_t carry = (a - 1 - r) >> 63;  // -1 where r >= a
-        t -= q;
-        t += carry;
-        r -= a & carry;
-    }
-};
-
-/// Beyond any column: where a horizontal edge, which bounds no run, stands.
-inline constexpr std::int64_t far_columns = std::int64_t{1} << 60;
-
-/// Sets up the walk of edge a -> b of a positively oriented triangle from pixel centre
-/// (px, py), the top-left corner of the box. A pixel is covered where
-/// v = E(x, y) - (owned ? 0 : 1) >= 0 (the top-left rule); along a row v grows by
-/// s_x = -dy per subpixel of x. Where s_x > 0 (a left edge) the covered columns are those from
-/// t = ceil(-v / s_x) = -floor(v / s_x) on; where s_x < 0 (a right edge), those before the
-/// first with v < 0, i.e. with u + |s_x| x >= 0 for u = -v - 1. A horizontal edge bounds the
-/// rows instead (horizontal_rows); its walker stays at far_columns on the side of its run.
-inline EdgeWalker edge_walker(const ScreenVertex& a, const ScreenVertex& b, std::int64_t px,
-                              std::int64_t py, bool left_side, double inv_slope) {
-    const std::int64_t step_x = -(b.sy - a.sy) * subpixels, step_y = (b.sx - a.sx) * subpixels;
-    if (step_x == 0) return {left_side ? -far_columns : far_columns, 0, 1, 0, 0};
-    const std::int64_t v = edge(a, b, px, py) - (owns_edge(a, b) ? 0 : 1);
-    const std::int64_t right = step_x >> 63;  // -1 for a right edge: u = -v - 1 = ~v
-    const std::int64_t u = v ^ right, slope = (step_x ^ right) - right;
-    const FloorDivision start = floor_divide(u, slope, inv_slope),
-                        row = floor_divide((step_y ^ right) - right, slope, inv_slope);
-    return {-start.q, start.r, slope, row.q, row.r};
-}
-
-/// The rows k = 0, 1, ... (counted from the box's top) that a horizontal edge a -> b lets in:
-/// where v + s_y k >= 0, a half line of rows. Narrows [first, last] to them.
-inline void horizontal_rows(const ScreenVertex& a, const ScreenVertex& b, std::int64_t px,
-                            std::int64_t py, std::int64_t& first, std::int64_t& last) {
-    const std::int64_t v = edge(a, b, px, py) - (owns_edge(a, b) ? 0 : 1);
-    const std::int64_t step_y = (b.sx - a.sx) * subpixels;
-    if (step_y > 0) {  // rows from -floor(v / s_y) on
-        first = std::max(first, -floor_divide(v, step_y, 1.0 / static_cast<double>(step_y)).q);
-    } else {  // rows up to floor(v / -s_y)
-        last = std::min(last, floor_divide(v, -step_y, -1.0 / static_cast<double>(step_y)).q);
-    }
-}
-
 /// Boxes at least this many columns wide and of more than walk_min_pixels pixels are walked
 /// edge by edge (EdgeWalker); smaller ones are stepped pixel by pixel, where the walk's set-up
 /// (a division and a dozen multiplications) would cost more than it saves. Both measured on
@@ -264,6 +191,7 @@ inline EdgeStepper edge_stepper(const ScreenVertex& a, const ScreenVertex& b, st
 template <class Span>
 void step_rows(const ScreenVertex& v0, const ScreenVertex& v1, const ScreenVertex& v2, int x0,
                int x1, int y0, int y1, std::int64_t px, std::int64_t py, Span& span) {
+    RADIOSITY_ASSERT(edge(v0, v1, v2.sx, v2.sy) > 0 && x0 <= x1 && y0 <= y1);
     EdgeStepper e0 = edge_stepper(v1, v2, px, py), e1 = edge_stepper(v2, v0, px, py),
                 e2 = edge_stepper(v0, v1, px, py);
     for (int y = y0; y <= y1; ++y) {
@@ -287,81 +215,11 @@ void step_rows(const ScreenVertex& v0, const ScreenVertex& v1, const ScreenVerte
     }
 }
 
-/// Rows first .. last of a walk: each run lies between a left and a right edge. The walkers
-/// are copied in, so that they live in registers.
-template <class Span>
-void walk_run_rows(EdgeWalker& left, EdgeWalker& right, int first, int last, int x0,
-                   std::int64_t columns, Span& span) {
-    EdgeWalker a = left, b = right;
-    for (int y = first; y <= last; ++y) {
-        const std::int64_t begin = std::max<std::int64_t>(0, a.t), end = std::min(columns, b.t);
-        if (begin < end) span(y, x0 + static_cast<int>(begin), x0 + static_cast<int>(end));
-        a.next_row();
-        b.next_row();
-    }
-    left = a;
-    right = b;
-}
-
-/// scan_triangle's rows of a wide box, each edge walked down the rows (EdgeWalker), so that a
-/// row costs the same however wide the box. Rows above the middle vertex lie between the long
-/// edge and the upper short edge, rows below it between the long edge and the lower one: the
-/// third edge's test is then implied (inside the angle of the other two at their shared vertex,
-/// strictly nearer than the third edge). Only the row through the middle vertex tests all three.
+/// The rows of a wide box walked edge by edge (detail/raster_walk.hpp, the fast path): the same
+/// pixels as step_rows, at O(1) a row.
 template <class Span>
 void walk_rows(const ScreenVertex& v0, const ScreenVertex& v1, const ScreenVertex& v2, int x0,
-               int x1, int y0, int y1, std::int64_t px, std::int64_t py0, Span& span) {
-    // A horizontal edge lets in a half line of rows; the other edges bound each row's run.
-    std::int64_t top = 0, bottom = y1 - y0;
-    if (v1.sy == v2.sy) horizontal_rows(v1, v2, px, py0, top, bottom);
-    if (v2.sy == v0.sy) horizontal_rows(v2, v0, px, py0, top, bottom);
-    if (v0.sy == v1.sy) horizontal_rows(v0, v1, px, py0, top, bottom);
-    if (top > bottom) return;
-    // Edge k runs between the two vertices other than v_k. The long edge spans the most rows;
-    // it lies opposite the middle vertex m, the upper short edge opposite the bottom vertex.
-    const std::array<const ScreenVertex*, 3> v{&v0, &v1, &v2};
-    auto rows = [&](std::size_t k) { return std::abs(v[(k + 2) % 3]->sy - v[(k + 1) % 3]->sy); };
-    const std::size_t m =
-        rows(0) >= rows(1) ? (rows(0) >= rows(2) ? 0 : 2) : (rows(1) >= rows(2) ? 1 : 2);
-    const std::size_t i = (m + 1) % 3, j = (m + 2) % 3;  // the long edge runs from v_i to v_j
-    const std::size_t bottom_vertex = v[i]->sy > v[j]->sy ? i : j;
-    const std::size_t top_vertex = bottom_vertex == i ? j : i;
-    // The long edge is left (upwards, dy < 0) or right; the short edges are on the other side.
-    const bool long_on_left = v[j]->sy < v[i]->sy;
-    const std::int64_t py = (y0 + top) * subpixels + subpixels / 2;
-    // The edges' slopes |dy| in subpixels^2 per column, and their reciprocals from a single
-    // division (a horizontal edge counts as 1: it is not walked).
-    std::array<double, 3> slope{};
-    for (std::size_t k = 0; k < 3; ++k)
-        slope[k] = rows(k) != 0 ? static_cast<double>(rows(k) * subpixels) : 1.0;
-    const double inv_product = 1.0 / (slope[0] * slope[1] * slope[2]);
-    auto walker = [&](std::size_t k, bool left_side, std::int64_t at_y) {
-        const double inv = slope[(k + 1) % 3] * slope[(k + 2) % 3] * inv_product;
-        return edge_walker(*v[(k + 1) % 3], *v[(k + 2) % 3], px, at_y, left_side, inv);
-    };
-    // The long edge, the upper and the lower short edge; which pair bounds a run on the left
-    // and which on the right is picked by index, not by a branch (either way is as likely).
-    std::array<EdgeWalker, 3> e{walker(m, long_on_left, py),
-                                walker(bottom_vertex, !long_on_left, py), EdgeWalker{}};
-    const std::size_t l = long_on_left ? 0 : 1, r = long_on_left ? 1 : 0;
-    // Rows above the middle vertex's, the row through it (or the first below), the rest.
-    const std::int64_t split = std::clamp<std::int64_t>(
-        -((subpixels / 2 - v[m]->sy) >> subpixel_bits) - y0, top, bottom + 1);
-    const std::int64_t columns = x1 - x0 + 1;
-    const int first = y0 + static_cast<int>(top), middle = y0 + static_cast<int>(split),
-              last = y0 + static_cast<int>(bottom);
-    walk_run_rows(e[l], e[r], first, middle - 1, x0, columns, span);
-    if (middle > last) return;
-    e[2] = walker(top_vertex, !long_on_left,
-                  static_cast<std::int64_t>(middle) * subpixels + subpixels / 2);
-    const std::size_t l2 = long_on_left ? 0 : 2, r2 = long_on_left ? 2 : 0;
-    const std::int64_t begin = std::max({std::int64_t{0}, e[l].t, e[l2].t});
-    const std::int64_t end = std::min({columns, e[r].t, e[r2].t});
-    if (begin < end) span(middle, x0 + static_cast<int>(begin), x0 + static_cast<int>(end));
-    e[0].next_row();
-    e[2].next_row();
-    walk_run_rows(e[l2], e[r2], middle + 1, last, x0, columns, span);
-}
+               int x1, int y0, int y1, std::int64_t px, std::int64_t py0, Span& span);
 
 /// Scan-converts one screen-space triangle: calls span(y, begin, end) for every row y with
 /// pixels begin .. end - 1 covered (their centres inside; a triangle is convex, so a row covers
@@ -542,53 +400,6 @@ struct NearestItems {
     }
 };
 
-/// Draws one screen-space triangle into a z-buffer with items (NearestItems): the pixels that
-/// draw_depth visits, with the same z/w, and the same decisions. A wide box goes by runs; in a
-/// narrow one (a few columns, most triangles of a hemicube) every pixel of the box is tested,
-/// coverage and depth together, without a branch: the runs there are a pixel or two, and the
-/// branches that find and draw them mispredict more often than not.
-inline void draw_nearest(const ScreenVertex& v0, const ScreenVertex& v1, const ScreenVertex& v2,
-                         int width, int height, NearestItems items) {
-    const std::optional<DepthPlane> plane = depth_plane(v0, v1, v2);
-    if (!plane) return;
-    const double z0 = plane->z0, dzdx = plane->dzdx, dzdy = plane->dzdy;
-    auto span = [items, z0, dzdx, dzdy](int y, int begin, int end) {
-        items(DepthSpan{y, begin, end, z0 + dzdy * y, dzdx});
-    };
-    auto narrow = [items, z0, dzdx, dzdy](const ScreenVertex& u0, const ScreenVertex& u1,
-                                          const ScreenVertex& u2, int bx0, int bx1, int by0,
-                                          int by1, std::int64_t px, std::int64_t py) {
-        EdgeStepper e0 = edge_stepper(u1, u2, px, py), e1 = edge_stepper(u2, u0, px, py),
-                    e2 = edge_stepper(u0, u1, px, py);
-        for (int y = by0; y <= by1; ++y) {
-            const auto row = static_cast<std::size_t>(y) * static_cast<std::size_t>(items.width);
-            double* const d = items.depth + row;
-            std::int32_t* const it = items.item + row;
-            const double zy = z0 + dzdy * y;  // as DepthSpan's z0: the same z, bit for bit
-            std::int64_t a = e0.value, b = e1.value, c = e2.value;
-            double x = bx0;
-            for (int col = bx0; col <= bx1; ++col, x += 1.0) {
-                const double z = zy + dzdx * x;
-                // All ones where covered and nearer: the stores below select by mask (as
-                // written, with ?:, the compiler would branch).
-                const std::int64_t nearer =
-                    -static_cast<std::int64_t>(((a | b | c) >= 0) & (z < d[col]));
-                const auto old_z = std::bit_cast<std::int64_t>(d[col]);
-                d[col] = std::bit_cast<double>(old_z ^
-                                               ((old_z ^ std::bit_cast<std::int64_t>(z)) & nearer));
-                it[col] ^= (it[col] ^ items.who) & static_cast<std::int32_t>(nearer);
-                a += e0.step_x;
-                b += e1.step_x;
-                c += e2.step_x;
-            }
-            e0.value += e0.step_y;
-            e1.value += e1.step_y;
-            e2.value += e2.step_y;
-        }
-    };
-    scan_triangle(v0, v1, v2, width, height, span, narrow);
-}
-
 }  // namespace detail
 
 /// Rasterises one clip-space triangle for a z-buffer only: calls visit(DepthSpan) for every
@@ -605,3 +416,6 @@ void rasterize_depth(const std::array<Vec4, 3>& clip, int width, int height, Vis
 }
 
 }  // namespace radiosity
+
+// The definition of walk_rows, after everything it builds on.
+#include <radiosity/detail/raster_walk.hpp>

@@ -1,6 +1,7 @@
 #pragma once
 /// @file gltf_read.hpp  Reading scenes from glTF 2.0 (Khronos Group 2017): .gltf with external
-/// or base64-embedded buffers, and .glb. The default scene's node hierarchy is flattened into
+/// or base64-embedded buffers, and .glb, parsed by tinygltf into its Model (io/gltf_load.hpp),
+/// which this header turns into a Scene. The default scene's node hierarchy is flattened into
 /// world-space triangles; baseColorFactor is the reflectance and emissiveFactor (times
 /// KHR_materials_emissive_strength) the emission; TEXCOORD_1, or TEXCOORD_0 when there is only
 /// one, gives the lightmap UVs. Every problem becomes a one-line radiosity::Error naming the file
@@ -8,7 +9,7 @@
 
 #include <radiosity/error.hpp>
 #include <radiosity/geometry/polygon.hpp>
-#include <radiosity/io/gltf_buffers.hpp>
+#include <radiosity/io/gltf_load.hpp>
 #include <radiosity/mesh/mesh.hpp>
 #include <radiosity/spectrum.hpp>
 
@@ -36,26 +37,39 @@ struct GltfReadResult {
 
 namespace detail {
 
-/// An optional index member (a node's "mesh", a primitive's "indices"): nullopt if absent.
-inline std::optional<std::uint64_t> optional_index(const GltfSource& g, const Json& o,
-                                                   const std::string& where, const char* key) {
-    if (!member(o, key)) return std::nullopt;
-    return get_uint(g, o, where, key);
+/// A node's or material's array of N finite numbers; `fallback` if tinygltf found none.
+template <std::size_t N>
+std::array<double, N> gltf_numbers(const GltfSource& g, const std::string& at, const char* key,
+                                   const std::vector<double>& v,
+                                   const std::array<double, N>& fallback) {
+    if (v.empty()) return fallback;
+    if (v.size() != N)
+        gltf_fail(
+            g, at,
+            std::string("'") + key + "' is not an array of " + std::to_string(N) + " numbers");
+    std::array<double, N> out{};
+    for (std::size_t k = 0; k < N; ++k) {
+        if (!std::isfinite(v[k]))
+            gltf_fail(g, at, std::string("'") + key + "' has an entry that is not a number");
+        out[k] = v[k];
+    }
+    return out;
 }
 
 /// A node's local transform: its column-major "matrix", or translation * rotation * scale with
 /// the rotation a unit quaternion (x, y, z, w), as the specification's section 3.5.3 says.
-inline glm::dmat4 node_transform(const GltfSource& g, const Json& node, const std::string& at) {
-    if (member(node, "matrix")) {
-        const auto m = get_numbers<16>(g, node, at, "matrix", {});
+inline glm::dmat4 node_transform(const GltfSource& g, const tinygltf::Node& node,
+                                 const std::string& at) {
+    if (!node.matrix.empty()) {
+        const auto m = gltf_numbers<16>(g, at, "matrix", node.matrix, {});
         glm::dmat4 out;
         for (int c = 0; c < 4; ++c)
             for (int r = 0; r < 4; ++r) out[c][r] = m[static_cast<std::size_t>(4 * c + r)];
         return out;
     }
-    const auto t = get_numbers<3>(g, node, at, "translation", {0.0, 0.0, 0.0});
-    const auto q = get_numbers<4>(g, node, at, "rotation", {0.0, 0.0, 0.0, 1.0});
-    const auto s = get_numbers<3>(g, node, at, "scale", {1.0, 1.0, 1.0});
+    const auto t = gltf_numbers<3>(g, at, "translation", node.translation, {0.0, 0.0, 0.0});
+    const auto q = gltf_numbers<4>(g, at, "rotation", node.rotation, {0.0, 0.0, 0.0, 1.0});
+    const auto s = gltf_numbers<3>(g, at, "scale", node.scale, {1.0, 1.0, 1.0});
     glm::dquat rotation(q[3], q[0], q[1], q[2]);  // glm takes w first
     const double length = glm::length(rotation);
     // Exporters round unit quaternions; normalising keeps the rotation rigid.
@@ -66,21 +80,27 @@ inline glm::dmat4 node_transform(const GltfSource& g, const Json& node, const st
            glm::scale(glm::dmat4(1.0), {s[0], s[1], s[2]});
 }
 
+/// KHR_materials_emissive_strength's factor on a material's emission, 1 without it.
+inline double emissive_strength(const GltfSource& g, const tinygltf::Material& m,
+                                const std::string& at) {
+    const auto ext = m.extensions.find("KHR_materials_emissive_strength");
+    if (ext == m.extensions.end() || !ext->second.Has("emissiveStrength")) return 1.0;
+    const tinygltf::Value& s = ext->second.Get("emissiveStrength");
+    if (!s.IsNumber() || !std::isfinite(s.GetNumberAsDouble()))
+        gltf_fail(g, at + ".KHR_materials_emissive_strength", "'emissiveStrength' is not a number");
+    return s.GetNumberAsDouble();
+}
+
 /// Converts a glTF material: baseColorFactor (rgb) -> R, emissiveFactor times
 /// KHR_materials_emissive_strength -> E. Textures are not sampled: a patch has one colour.
 template <SpectrumType S>
-Material<S> gltf_material(const GltfSource& g, std::uint64_t i) {
-    const Json& m = gltf_element(g, "materials", i);
+Material<S> gltf_material(const GltfSource& g, std::size_t i) {
+    const tinygltf::Material& m = g.model.materials[i];
     const std::string at = "materials[" + std::to_string(i) + "]";
-    std::array<double, 4> base{1.0, 1.0, 1.0, 1.0};
-    if (const Json* pbr = member(m, "pbrMetallicRoughness"))
-        base = get_numbers<4>(g, *pbr, at + ".pbrMetallicRoughness", "baseColorFactor", base);
-    const auto e = get_numbers<3>(g, m, at, "emissiveFactor", {0.0, 0.0, 0.0});
-    double strength = 1.0;
-    if (const Json* ext = member(m, "extensions"))
-        if (const Json* s = member(*ext, "KHR_materials_emissive_strength"))
-            strength = get_numbers<1>(g, *s, at + ".KHR_materials_emissive_strength",
-                                      "emissiveStrength", {1.0})[0];
+    const auto base = gltf_numbers<4>(g, at + ".pbrMetallicRoughness", "baseColorFactor",
+                                      m.pbrMetallicRoughness.baseColorFactor, {1.0, 1.0, 1.0, 1.0});
+    const auto e = gltf_numbers<3>(g, at, "emissiveFactor", m.emissiveFactor, {0.0, 0.0, 0.0});
+    const double strength = emissive_strength(g, m, at);
     if (e[0] < 0.0 || e[1] < 0.0 || e[2] < 0.0 || strength < 0.0)
         gltf_fail(g, at, "emission is negative");
     // glTF's default (and common) base colour is 1: a surface that reflects all light it gets,
@@ -88,9 +108,8 @@ Material<S> gltf_material(const GltfSource& g, std::uint64_t i) {
     // 0.99 keeps the asset loadable with nearly the look it asks for.
     auto r = [&](int k) { return static_cast<float>(std::clamp(base[std::size_t(k)], 0.0, 0.99)); };
     auto em = [&](int k) { return static_cast<float>(e[std::size_t(k)] * strength); };
-    Material<S> out{from_rgb<S>(em(0), em(1), em(2)), from_rgb<S>(r(0), r(1), r(2)), at};
-    if (const Json* name = member(m, "name"); name && name->is_string())
-        out.name = name->get<std::string>();
+    Material<S> out{from_rgb<S>(em(0), em(1), em(2)), from_rgb<S>(r(0), r(1), r(2)),
+                    m.name.empty() ? at : m.name};
     if (!all_finite(out.emission)) gltf_fail(g, at, "emission is not a finite number");
     return out;
 }
@@ -99,29 +118,22 @@ Material<S> gltf_material(const GltfSource& g, std::uint64_t i) {
 /// the file requires changes geometry (Draco or meshopt compression, quantized positions,
 /// GPU instancing). Material and texture extensions only change the look, so they pass.
 inline void check_gltf_asset(const GltfSource& g) {
-    const Json* asset = member(g.doc, "asset");
-    const Json* version = asset ? member(*asset, "version") : nullptr;
-    if (!version || !version->is_string())
-        gltf_fail(g, "asset", "missing 'version' (not a glTF 2.0 file?)");
-    if (version->get<std::string>().rfind("2.", 0) != 0)
-        gltf_fail(g, "asset", "version " + version->get<std::string>() + " is not 2.x");
-    const Json& required = top_array(g, "extensionsRequired");
-    for (const Json& e : required) {
-        const std::string name = e.is_string() ? e.get<std::string>() : e.dump();
+    const std::string& version = g.model.asset.version;  // tinygltf refuses a file without one
+    if (version.rfind("2.", 0) != 0) gltf_fail(g, "asset", "version " + version + " is not 2.x");
+    for (const std::string& name : g.model.extensionsRequired)
         if (name.rfind("KHR_materials_", 0) != 0 && name.rfind("KHR_texture_", 0) != 0)
             gltf_fail(g, "extensionsRequired", name + " is not supported");
-    }
 }
 
-/// Builds a Scene from a glTF document: walks the chosen scene's nodes, turns each triangle
+/// Builds a Scene from a glTF Model: walks the chosen scene's nodes, turns each triangle
 /// primitive into faces in world space, and keeps lightmap UVs only if every face has them.
 template <SpectrumType S>
 class GltfSceneReader {
   public:
-    explicit GltfSceneReader(GltfSource& g) : g_(g) {
+    explicit GltfSceneReader(const GltfSource& g) : g_(g) {
         out_.scene.source = g.path;
-        const std::size_t n = top_array(g, "materials").size();
-        for (std::size_t m = 0; m < n; ++m) out_.scene.materials.push_back(gltf_material<S>(g, m));
+        for (std::size_t m = 0; m < g.model.materials.size(); ++m)
+            out_.scene.materials.push_back(gltf_material<S>(g, m));
     }
 
     /// Reads the scene and returns it, or throws Error if it has no triangles.
@@ -135,89 +147,67 @@ class GltfSceneReader {
     }
 
   private:
+    const tinygltf::Model& model() const { return g_.model; }
+
     /// The nodes of the default scene ("scene"), else of scenes[0], else every node that is no
     /// node's child.
-    std::vector<std::uint64_t> root_nodes() {
-        const Json& scenes = top_array(g_, "scenes");
-        std::optional<std::uint64_t> chosen = optional_index(g_, g_.doc, "scene", "scene");
-        if (!chosen && !scenes.empty()) chosen = 0;
-        std::vector<std::uint64_t> roots;
-        if (chosen) {
-            const Json& scene = gltf_element(g_, "scenes", *chosen);
-            const std::string at = "scenes[" + std::to_string(*chosen) + "]";
-            for (const Json& n : node_list(scene, at)) roots.push_back(index_of(n, at + ".nodes"));
-            return roots;
-        }
-        const Json& nodes = top_array(g_, "nodes");
-        std::vector<char> is_child(nodes.size(), 0);
-        for (std::size_t n = 0; n < nodes.size(); ++n) {
-            const std::string at = "nodes[" + std::to_string(n) + "]";
-            for (const Json& c : node_list(gltf_element(g_, "nodes", n), at, "children")) {
-                const std::uint64_t child = index_of(c, at + ".children");
-                if (child < nodes.size()) is_child[child] = 1;
-            }
-        }
-        for (std::size_t n = 0; n < nodes.size(); ++n)
-            if (!is_child[n]) roots.push_back(n);
+    std::vector<int> root_nodes() const {
+        const int chosen = model().defaultScene >= 0 ? model().defaultScene
+                           : model().scenes.empty()  ? -1
+                                                     : 0;
+        if (chosen >= 0) return gltf_element(g_, model().scenes, "scenes", chosen).nodes;
+        const std::size_t n = model().nodes.size();
+        std::vector<char> is_child(n, 0);
+        for (const tinygltf::Node& node : model().nodes)
+            for (const int child : node.children)
+                if (child >= 0 && std::size_t(child) < n) is_child[std::size_t(child)] = 1;
+        std::vector<int> roots;
+        for (std::size_t k = 0; k < n; ++k)
+            if (!is_child[k]) roots.push_back(static_cast<int>(k));
         return roots;
-    }
-
-    /// A list of node indices ("nodes" of a scene, "children" of a node); empty if absent.
-    const Json& node_list(const Json& o, const std::string& at, const char* key = "nodes") {
-        static const Json empty = Json::array();
-        const Json* list = member(o, key);
-        if (!list) return empty;
-        if (!list->is_array()) gltf_fail(g_, at, std::string("'") + key + "' is not an array");
-        return *list;
-    }
-
-    std::uint64_t index_of(const Json& v, const std::string& at) {
-        if (!v.is_number_unsigned()) gltf_fail(g_, at, "has an entry that is not an index");
-        return v.get<std::uint64_t>();
     }
 
     /// Visits the hierarchy depth first with an explicit stack (a deep chain of nodes cannot
     /// overflow the call stack), each node once: a node reached twice would be a cycle or a
     /// node with two parents, which the specification forbids.
-    void walk_nodes(const std::vector<std::uint64_t>& roots) {
-        std::vector<char> seen(top_array(g_, "nodes").size(), 0);
-        std::vector<std::pair<std::uint64_t, glm::dmat4>> stack;
+    void walk_nodes(const std::vector<int>& roots) {
+        std::vector<char> seen(model().nodes.size(), 0);
+        std::vector<std::pair<int, glm::dmat4>> stack;
         for (auto r = roots.rbegin(); r != roots.rend(); ++r) stack.emplace_back(*r, 1.0);
         while (!stack.empty()) {
             const auto [n, parent] = stack.back();
             stack.pop_back();
-            const Json& node = gltf_element(g_, "nodes", n);
+            const tinygltf::Node& node = gltf_element(g_, model().nodes, "nodes", n);
             const std::string at = "nodes[" + std::to_string(n) + "]";
-            if (seen[n]) gltf_fail(g_, at, "is reached twice (the nodes must form a tree)");
-            seen[n] = 1;
+            if (seen[std::size_t(n)])
+                gltf_fail(g_, at, "is reached twice (the nodes must form a tree)");
+            seen[std::size_t(n)] = 1;
             const glm::dmat4 world = parent * node_transform(g_, node, at);
-            if (const auto mesh = optional_index(g_, node, at, "mesh")) add_mesh(*mesh, world);
-            const Json& children = node_list(node, at, "children");
-            for (auto c = children.rbegin(); c != children.rend(); ++c)
-                stack.emplace_back(index_of(*c, at + ".children"), world);
+            if (node.mesh >= 0) add_mesh(node.mesh, world);  // tinygltf: -1 for none
+            for (auto c = node.children.rbegin(); c != node.children.rend(); ++c)
+                stack.emplace_back(*c, world);
         }
     }
 
-    void add_mesh(std::uint64_t m, const glm::dmat4& world) {
-        const Json& mesh = gltf_element(g_, "meshes", m);
+    void add_mesh(int m, const glm::dmat4& world) {
+        const tinygltf::Mesh& mesh = gltf_element(g_, model().meshes, "meshes", m);
         const std::string at = "meshes[" + std::to_string(m) + "]";
-        const Json* prims = member(mesh, "primitives");
-        if (!prims || !prims->is_array()) gltf_fail(g_, at, "missing 'primitives'");
-        for (std::size_t p = 0; p < prims->size(); ++p)
-            add_primitive((*prims)[p], at + ".primitives[" + std::to_string(p) + "]", world);
+        for (std::size_t p = 0; p < mesh.primitives.size(); ++p)
+            add_primitive(mesh.primitives[p], at + ".primitives[" + std::to_string(p) + "]", world);
     }
 
     /// The vertex indices of a primitive (or 0 .. count-1 without "indices"), each checked.
-    std::vector<std::uint32_t> indices(const Json& prim, const std::string& at, std::size_t n) {
+    std::vector<std::uint32_t> indices(const tinygltf::Primitive& prim, std::size_t n) const {
         std::vector<std::uint32_t> out;
-        const auto i = optional_index(g_, prim, at, "indices");
-        if (!i) {
+        if (prim.indices < 0) {  // tinygltf: -1 for none
             out.resize(n);
             for (std::size_t k = 0; k < n; ++k) out[k] = static_cast<std::uint32_t>(k);
             return out;
         }
         const AccessorData d = gltf_accessor(
-            g_, *i, "SCALAR", {gltf::unsigned_byte, gltf::unsigned_short, gltf::unsigned_int});
+            g_, prim.indices, TINYGLTF_TYPE_SCALAR,
+            {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+             TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT});
         out.reserve(d.count);
         for (std::size_t k = 0; k < d.count; ++k) {
             const double v = accessor_value(d, k, 0);
@@ -233,14 +223,14 @@ class GltfSceneReader {
     /// Triangles of a primitive: lists (mode 4), strips (5) and fans (6), numbered as the
     /// specification's section 3.7.2.1 says so that all keep the list's winding.
     std::vector<std::array<std::uint32_t, 3>> triangles(const std::vector<std::uint32_t>& v,
-                                                        std::uint64_t mode, const std::string& at) {
+                                                        int mode, const std::string& at) const {
         std::vector<std::array<std::uint32_t, 3>> t;
-        if (mode == gltf::triangles) {
+        if (mode == TINYGLTF_MODE_TRIANGLES) {
             if (v.size() % 3 != 0)
                 gltf_fail(g_, at, std::to_string(v.size()) + " indices are not whole triangles");
             for (std::size_t k = 0; k + 2 < v.size(); k += 3)
                 t.push_back({v[k], v[k + 1], v[k + 2]});
-        } else if (mode == gltf::triangle_strip) {
+        } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
             for (std::size_t k = 0; k + 2 < v.size(); ++k)
                 t.push_back({v[k], v[k + 1 + k % 2], v[k + 2 - k % 2]});
         } else {
@@ -250,9 +240,12 @@ class GltfSceneReader {
     }
 
     /// POSITION as points, each finite.
-    std::vector<Vec3> positions(const Json& attributes, const std::string& at) {
-        const AccessorData d = gltf_accessor(
-            g_, get_uint(g_, attributes, at + ".attributes", "POSITION"), "VEC3", {gltf::float32});
+    std::vector<Vec3> positions(const tinygltf::Primitive& prim, const std::string& at) const {
+        const auto it = prim.attributes.find("POSITION");
+        if (it == prim.attributes.end())
+            gltf_fail(g_, at + ".attributes", "missing required 'POSITION'");
+        const AccessorData d =
+            gltf_accessor(g_, it->second, TINYGLTF_TYPE_VEC3, {TINYGLTF_COMPONENT_TYPE_FLOAT});
         std::vector<Vec3> p(d.count);
         for (std::size_t e = 0; e < d.count; ++e) {
             p[e] = {accessor_value(d, e, 0), accessor_value(d, e, 1), accessor_value(d, e, 2)};
@@ -263,14 +256,16 @@ class GltfSceneReader {
     }
 
     /// The lightmap UVs: TEXCOORD_1 if the primitive has it, else TEXCOORD_0, else none.
-    std::vector<glm::vec2> uvs(const Json& attributes, const std::string& at, std::size_t n) {
-        const char* key = member(attributes, "TEXCOORD_1") ? "TEXCOORD_1" : "TEXCOORD_0";
+    std::vector<glm::vec2> uvs(const tinygltf::Primitive& prim, std::size_t n) const {
+        auto it = prim.attributes.find("TEXCOORD_1");
+        if (it == prim.attributes.end()) it = prim.attributes.find("TEXCOORD_0");
         std::vector<glm::vec2> uv;
-        const auto i = optional_index(g_, attributes, at + ".attributes", key);
-        if (!i) return uv;
-        const AccessorData d = gltf_accessor(
-            g_, *i, "VEC2", {gltf::unsigned_byte, gltf::unsigned_short, gltf::float32});
-        if (d.component_type != gltf::float32 && !d.normalized)
+        if (it == prim.attributes.end()) return uv;
+        const AccessorData d =
+            gltf_accessor(g_, it->second, TINYGLTF_TYPE_VEC2,
+                          {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                           TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_COMPONENT_TYPE_FLOAT});
+        if (d.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT && !d.normalized)
             gltf_fail(g_, d.name, "integer texture coordinates must be normalized");
         if (d.count != n)
             gltf_fail(g_, d.name,
@@ -286,20 +281,18 @@ class GltfSceneReader {
     /// rather than refused: exporters leave them in real assets, and build_mesh would refuse the
     /// whole scene for one. A mirroring transform (negative determinant) turns the winding round,
     /// so the corners are swapped to keep the front side in front (section 3.7.4).
-    void add_primitive(const Json& prim, const std::string& at, const glm::dmat4& world) {
-        if (!prim.is_object()) gltf_fail(g_, at, "is not an object");
-        const std::uint64_t mode = get_uint(g_, prim, at, "mode", gltf::triangles);
-        if (mode > 6) gltf_fail(g_, at, "mode " + std::to_string(mode) + " is not 0..6");
-        if (mode < gltf::triangles) {  // points and lines have no area to exchange light
+    void add_primitive(const tinygltf::Primitive& prim, const std::string& at,
+                       const glm::dmat4& world) {
+        if (prim.mode < 0 || prim.mode > 6)
+            gltf_fail(g_, at, "mode " + std::to_string(prim.mode) + " is not 0..6");
+        if (prim.mode < TINYGLTF_MODE_TRIANGLES) {  // points and lines have no area
             ++out_.skipped_primitives;
             return;
         }
-        const Json* attributes = member(prim, "attributes");
-        if (!attributes || !attributes->is_object()) gltf_fail(g_, at, "missing 'attributes'");
-        const std::vector<Vec3> local = positions(*attributes, at);
-        const std::vector<glm::vec2> uv = uvs(*attributes, at, local.size());
-        const auto tris = triangles(indices(prim, at, local.size()), mode, at);
-        const std::uint32_t material = material_of(prim, at);
+        const std::vector<Vec3> local = positions(prim, at);
+        const std::vector<glm::vec2> uv = uvs(prim, local.size());
+        const auto tris = triangles(indices(prim, local.size()), prim.mode, at);
+        const std::uint32_t material = material_of(prim);
         const bool mirrored = glm::determinant(world) < 0.0;
         std::vector<std::uint32_t> added(local.size(), std::numeric_limits<std::uint32_t>::max());
         if (uv.empty()) all_uvs_ = false;
@@ -345,17 +338,16 @@ class GltfSceneReader {
         s.face_uvs.push_back(std::move(corners));
     }
 
-    std::uint32_t material_of(const Json& prim, const std::string& at) {
-        const auto m = optional_index(g_, prim, at, "material");
-        if (!m) {
+    std::uint32_t material_of(const tinygltf::Primitive& prim) {
+        if (prim.material < 0) {  // tinygltf: -1 for none
             uses_default_ = true;
-            return static_cast<std::uint32_t>(top_array(g_, "materials").size());
+            return static_cast<std::uint32_t>(model().materials.size());
         }
-        gltf_element(g_, "materials", *m);  // refuses a material that does not exist
-        return static_cast<std::uint32_t>(*m);
+        gltf_element(g_, model().materials, "materials", prim.material);  // refuses a missing one
+        return static_cast<std::uint32_t>(prim.material);
     }
 
-    GltfSource& g_;
+    const GltfSource& g_;
     GltfReadResult<S> out_;
     bool all_uvs_ = true;
     bool uses_default_ = false;
@@ -372,19 +364,17 @@ class GltfSceneReader {
 /// primitive without a material gets grey 0.5. Lightmap UVs come from TEXCOORD_1, or TEXCOORD_0
 /// when there is only one (glTF's v already grows downward, as ours does), and are kept only if
 /// every face has them, all in [0, 1]. Textures, normals, skins, morph targets, cameras and
-/// doubleSided are not used. Throws a one-line Error naming the file and the element for a
-/// missing or malformed file, an index out of range, data outside its buffer, a wrong accessor
-/// type, a non-finite position, a sparse accessor, an unknown uri scheme or a required extension
-/// that changes geometry (Draco, meshopt). Cost: linear in the file and the flattened scene.
+/// doubleSided are not used. tinygltf parses the file (io/gltf_load.hpp); as it does, a property
+/// of the wrong JSON type reads as absent. Throws a one-line Error naming the file and the
+/// element for a missing or malformed file (tinygltf's message, which names the kind of element),
+/// an index out of range, data outside its buffer, a wrong accessor type, a non-finite position,
+/// a sparse accessor, a missing buffer file or a required extension that changes geometry
+/// (Draco, meshopt). Cost: linear in the file and the flattened scene.
 template <SpectrumType S>
 GltfReadResult<S> read_gltf_result(const std::string& path) {
-    detail::GltfSource g = detail::open_gltf(path);
-    try {
-        detail::check_gltf_asset(g);
-        return detail::GltfSceneReader<S>(g).read();
-    } catch (const nlohmann::json::exception& e) {  // a safety net: the checks above come first
-        throw Error(path + ": " + e.what());
-    }
+    const detail::GltfSource g = detail::open_gltf(path);
+    detail::check_gltf_asset(g);
+    return detail::GltfSceneReader<S>(g).read();
 }
 
 /// Reads a glTF 2.0 file (.gltf or .glb) into a Scene: read_gltf_result without the counts of

@@ -6,7 +6,7 @@
 /// functions, so including this header in several files is safe.
 
 #include <radiosity/error.hpp>
-#include <radiosity/shading/camera.hpp>
+#include <radiosity/shading/image.hpp>
 #include <radiosity/shading/tonemap.hpp>
 
 #include <tinyexr.h>

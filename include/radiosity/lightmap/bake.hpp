@@ -11,9 +11,9 @@
 
 #include <radiosity/error.hpp>
 #include <radiosity/geometry/bvh.hpp>
+#include <radiosity/geometry/patch_table.hpp>
 #include <radiosity/geometry/sampling.hpp>
-#include <radiosity/mesh/patch_table.hpp>
-#include <radiosity/shading/camera.hpp>
+#include <radiosity/shading/image.hpp>
 #include <radiosity/shading/shaded_mesh.hpp>
 
 #include <algorithm>
@@ -281,7 +281,9 @@ inline void shade_texels(Lightmap& lm, const ShadedMesh& mesh, const std::vector
     }
     const double offset = 1e-5 * glm::length(hi - lo);  // off the surface, not through a wall
     const auto n = static_cast<std::ptrdiff_t>(hits.size());
+#if defined(RADIOSITY_WITH_OPENMP)
 #pragma omp parallel for schedule(dynamic, 256)
+#endif
     for (std::ptrdiff_t k = 0; k < n; ++k) {
         const auto i = static_cast<std::size_t>(k);
         const TexelHit& hit = hits[i];

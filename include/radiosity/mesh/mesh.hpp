@@ -11,7 +11,7 @@
 #include <radiosity/geometry/vec.hpp>
 #include <radiosity/mesh/corner_uv.hpp>
 #include <radiosity/mesh/manifold.hpp>
-#include <radiosity/mesh/patch_table.hpp>
+#include <radiosity/geometry/patch_table.hpp>
 #include <radiosity/spectrum.hpp>
 
 #include <algorithm>

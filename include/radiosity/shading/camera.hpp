@@ -5,15 +5,18 @@
 
 #include <radiosity/error.hpp>
 #include <radiosity/geometry/raster.hpp>
+#include <radiosity/shading/image.hpp>
 #include <radiosity/shading/shaded_mesh.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
-#include <cmath>
+#include <array>
+#include <cstddef>
 #include <limits>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace radiosity {
@@ -24,18 +27,6 @@ struct Camera {
     Vec3 target{0.0, 0.0, 0.0};   ///< a point on the line of sight
     Vec3 up{0.0, 1.0, 0.0};       ///< the picture's up direction (need not be orthogonal)
     double fov_y_degrees = 40.0;  ///< vertical field of view, in (0, 180)
-};
-
-/// A picture of linear RGB values, row 0 at the top.
-struct Image {
-    int width = 0;                  ///< pixels per row
-    int height = 0;                 ///< rows
-    std::vector<glm::vec3> pixels;  ///< width * height values, row after row
-    /// The pixel in column x of row y.
-    glm::vec3& at(int x, int y) { return pixels[static_cast<std::size_t>(y) * width + x]; }
-    const glm::vec3& at(int x, int y) const {
-        return pixels[static_cast<std::size_t>(y) * width + x];
-    }
 };
 
 /// Settings of a rendering.
@@ -70,19 +61,6 @@ inline std::pair<double, double> depth_range(const ShadedMesh& m, const glm::dma
     return {far * 1e-6, far};
 }
 }  // namespace detail
-
-/// Texture lookup as graphics hardware does it (bilinear filtering, clamp to edge): the value at
-/// uv of a picture whose texel (x, y) has its centre at ((x + 0.5) / W, (y + 0.5) / H).
-inline glm::vec3 sample_bilinear(const Image& texture, glm::vec2 uv) {
-    const float x = uv.x * float(texture.width) - 0.5f, y = uv.y * float(texture.height) - 0.5f;
-    const float fx = std::floor(x), fy = std::floor(y), tx = x - fx, ty = y - fy;
-    auto at = [&](float i, float j) {
-        return texture.at(std::clamp(int(i), 0, texture.width - 1),
-                          std::clamp(int(j), 0, texture.height - 1));
-    };
-    return (1 - ty) * ((1 - tx) * at(fx, fy) + tx * at(fx + 1, fy)) +
-           ty * ((1 - tx) * at(fx, fy + 1) + tx * at(fx + 1, fy + 1));
-}
 
 /// Renders the mesh as the camera sees it: every triangle through the shared rasteriser
 /// (near-plane clipping, top-left rule), nearest surface kept per pixel, and the pixel's value

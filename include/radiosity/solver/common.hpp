@@ -1,41 +1,25 @@
 #pragma once
-/// @file common.hpp  What the solvers share: patch values as doubles (K bands per patch,
-/// interleaved), the gather sum_j F_ij B_j over an assembled row, a parallel pass gathering every
-/// row, the relative residual of B = E + R F B, a stopwatch, and the checks of a system against
-/// its matrix.
+/// @file common.hpp  The arithmetic the solvers share: patch values as doubles (K bands per
+/// patch, interleaved), the gather sum_j F_ij B_j over an assembled row, a parallel pass
+/// gathering every row, and the relative residual of B = E + R F B. The opening and closing of
+/// a solve, and its stopping rule, are in session.hpp.
 
 #include <radiosity/concepts.hpp>
 #include <radiosity/detail/dense_dot.hpp>
-#include <radiosity/error.hpp>
-#include <radiosity/form_factor/matrix.hpp>
+#include <radiosity/detail/parallel.hpp>
 #include <radiosity/solver/system.hpp>
 #include <radiosity/spectrum.hpp>
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
-#include <string>
 #include <vector>
 
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
-
 namespace radiosity {
-
-/// A solver of the radiosity system: `solver.solve(system, F, progress)` returns B and a Report.
-/// F is an assembled matrix (Jacobi, Gauss-Seidel, direct) or, for progressive shooting, any
-/// RowSource, so that rows can be computed on demand.
-template <class X, class S, class Mx>
-concept Solver = SpectrumType<S> &&
-    requires(const X& solver, const System<S>& system, const Mx& F, const ProgressCallback& p) {
-    { solver.solve(system, F, p) } -> std::same_as<Solution<S>>;
-};
 
 namespace detail {
 
@@ -85,22 +69,6 @@ inline double emission_scale(const std::vector<double>& E) {
     return m > 0.0 ? m : 1.0;
 }
 
-/// Whether a pass over an n x n system of K bands is worth sharing among threads: from 2^24
-/// products on (a few milliseconds), below which starting and waking threads, on a machine
-/// with other work, can cost more than the pass. Results do not depend on it: the work is cut
-/// the same way either way.
-inline bool worth_threads(std::size_t n, std::size_t K) {
-    return static_cast<double>(n) * static_cast<double>(n) * static_cast<double>(K) >= 0x1p24;
-}
-
-/// A short pause in a spin-wait loop (x86's pause, which frees the core's resources for a
-/// sibling hyper-thread; nothing elsewhere).
-inline void spin_pause() {
-#if defined(__SSE2__)
-    _mm_pause();
-#endif
-}
-
 /// max over rows i of value(i, acc), where acc[k] = sum_j F_ij B_j[k] is row i's gather over B
 /// (interleaved, as to_doubles gives it). Rows run in parallel, so value must be safe to call
 /// for different rows at once; each row's sum is made by one thread in a fixed order and max is
@@ -146,65 +114,6 @@ double relative_residual(const Mx& F, const std::vector<double>& E, const std::v
         return w;
     });
     return worst / emission_scale(E);
-}
-
-/// Validates the system and that the matrix has one row per patch.
-template <SpectrumType S>
-void check_system(const System<S>& system, std::size_t matrix_size, const char* solver) {
-    system.validate();
-    if (matrix_size != system.size())
-        throw Error(std::string(solver) + ": the form-factor matrix has " +
-                    std::to_string(matrix_size) + " rows for " + std::to_string(system.size()) +
-                    " patches");
-}
-
-/// Wall-clock seconds since construction.
-class Stopwatch {
-  public:
-    double seconds() const {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    }
-
-  private:
-    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-};
-
-/// Progress through an iterative solve as a fraction: how far the residual has come down from
-/// its start towards the tolerance, on a log scale (so that each digit gained counts alike).
-inline double convergence_fraction(double first, double now, double tolerance) {
-    if (!(now > tolerance) || !(first > tolerance)) return 1.0;
-    const double f = std::log(first / now) / std::log(first / tolerance);
-    return std::clamp(f, 0.0, 1.0);
-}
-
-/// The loop shared by the sweeping solvers: calls sweep() (which returns the largest change of
-/// B, absolute) until the change relative to max E is within the tolerance, the iteration cap
-/// is reached or the progress callback cancels; fills iterations, residual (the last relative
-/// change), converged and cancelled. values() gives the current B (interleaved, as to_doubles)
-/// for the callback's Progress::radiosity; it is called only when there is a callback.
-template <class Sweep, class Values>
-void sweep_until(Report& report, Sweep&& sweep, Values&& values, double scale, double tolerance,
-                 std::size_t max_iterations, const ProgressCallback& progress) {
-    double first = -1.0;
-    while (report.iterations < max_iterations) {
-        const double change = sweep() / scale;
-        ++report.iterations;
-        report.residual = change;
-        if (first < 0.0) first = change;
-        if (change <= tolerance) {
-            report.converged = true;
-            return;
-        }
-        if (progress &&
-            !progress(Progress{.phase = "solve",
-                               .fraction = convergence_fraction(first, change, tolerance),
-                               .residual = change,
-                               .iteration = report.iterations,
-                               .radiosity = values()})) {
-            report.cancelled = true;
-            return;
-        }
-    }
 }
 
 }  // namespace detail

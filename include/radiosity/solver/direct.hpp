@@ -7,6 +7,7 @@
 #include <radiosity/form_factor/matrix.hpp>
 #include <radiosity/progress.hpp>
 #include <radiosity/solver/common.hpp>
+#include <radiosity/solver/session.hpp>
 
 #include <cmath>
 #include <cstdint>
@@ -22,27 +23,23 @@ struct DirectOptions {
 /// Direct LU solve (see the file comment). The report gives the relative residual of the
 /// computed B, which is at rounding level for the well-conditioned matrices of radiosity
 /// (I - R F is diagonally dominant by rows: R_i sum_j F_ij < 1).
-class Direct {
+class Direct : public detail::SolverBase<Direct, DirectOptions> {
   public:
-    /// A solver with the given settings.
-    explicit Direct(DirectOptions options = {}) : options_(options) {}
+    using SolverBase::SolverBase;
+    static constexpr const char* name = "direct";  ///< Report::solver
 
-    /// Solves the system over an assembled matrix. Throws Error for bad input or a system
-    /// larger than max_patches.
+    /// The solve of solve() (detail::SolverBase): LU per distinct reflectance band, then the
+    /// residual of the result; returns B. Throws Error for a system larger than max_patches.
     template <SpectrumType S, AssembledMatrix Mx>
-    Solution<S> solve(const System<S>& system, const Mx& F,
-                      const ProgressCallback& progress = {}) const {
-        detail::check_system(system, F.size(), "direct");
-        const std::size_t n = system.size();
+    std::vector<double> iterate(detail::SolveSession<S>& session, const Mx& F) const {
+        constexpr std::size_t K = band_count<S>;
+        const std::size_t n = session.system.size();
         if (n > options_.max_patches)
             throw Error("direct solver: " + std::to_string(n) + " patches exceed max_patches = " +
                         std::to_string(options_.max_patches) + " (use an iterative solver)");
-        const detail::Stopwatch clock;
-        constexpr std::size_t K = band_count<S>;
-        const std::vector<double> E = detail::to_doubles(system.emission),
-                                  R = detail::to_doubles(system.reflectance);
+        const std::vector<double>& E = session.E;
+        const std::vector<double>& R = session.R;
         std::vector<double> B(E.size(), 0.0);
-        Report report{"direct"};
         std::vector<double> A;
         std::vector<std::size_t> pivot;
         std::size_t factored = K;  // the band whose LU is in A (none yet)
@@ -51,20 +48,17 @@ class Direct {
                 substitute(A, pivot, E, B, k, K, n);
                 continue;
             }
-            if (!detail::report(progress, "solve", double(k) / double(K))) {
-                report.cancelled = true;
-                break;
-            }
+            if (!session.proceed(double(k) / double(K))) break;
             assemble(F, R, k, K, n, A);
             factor(A, pivot, n);
             factored = k;
             substitute(A, pivot, E, B, k, K, n);
         }
+        Report& report = session.report;
         report.iterations = 1;
         report.residual = detail::relative_residual<K>(F, E, R, B);
         report.converged = !report.cancelled && std::isfinite(report.residual);
-        report.seconds = clock.seconds();
-        return {detail::from_doubles<S>(B), report};
+        return B;
     }
 
   private:
@@ -129,11 +123,9 @@ class Direct {
         }
         for (std::size_t i = 0; i < n; ++i) B[i * K + k] = x[i];
     }
-
-    DirectOptions options_;
 };
 
-// The solver contract (common.hpp): the LU solve reads any assembled matrix.
+// The solver contract (concepts.hpp): the LU solve reads any assembled matrix.
 static_assert(Solver<Direct, float, DenseMatrix> && Solver<Direct, Rgb, SparseMatrix>);
 
 }  // namespace radiosity

@@ -7,48 +7,39 @@
 #include <radiosity/form_factor/matrix.hpp>
 #include <radiosity/progress.hpp>
 #include <radiosity/solver/common.hpp>
+#include <radiosity/solver/session.hpp>
 
 #include <array>
 #include <cstdint>
 
 namespace radiosity {
 
-/// Settings of the Jacobi solver.
-struct JacobiOptions {
-    double tolerance = 1e-4;            ///< stop when the relative residual is this small
-    std::size_t max_iterations = 1000;  ///< guard on the number of sweeps
-};
+/// Settings of the Jacobi solver: those of every sweeping solver (session.hpp).
+using JacobiOptions = SweepOptions;
 
 /// Jacobi iteration (see the file comment). The residual of the equation at B^(m) is exactly
 /// B^(m+1) - B^(m), so the stopping test costs nothing extra. Cost: O(non-zeros of F) a sweep.
-class Jacobi {
+class Jacobi : public detail::SolverBase<Jacobi, JacobiOptions> {
   public:
-    /// A solver with the given settings.
-    explicit Jacobi(JacobiOptions options = {}) : options_(options) {}
+    using SolverBase::SolverBase;
+    static constexpr const char* name = "jacobi";  ///< Report::solver
 
-    /// Solves the system over an assembled matrix. Throws Error for bad input.
+    /// The iteration of solve() (detail::SolverBase): sweeps from B = E until the stopping rule
+    /// holds; returns B.
     template <SpectrumType S, AssembledMatrix Mx>
-    Solution<S> solve(const System<S>& system, const Mx& F,
-                      const ProgressCallback& progress = {}) const {
-        detail::check_system(system, F.size(), "jacobi");
-        const detail::Stopwatch clock;
-        constexpr std::size_t K = band_count<S>;
-        const std::vector<double> E = detail::to_doubles(system.emission),
-                                  R = detail::to_doubles(system.reflectance);
+    std::vector<double> iterate(detail::SolveSession<S>& session, const Mx& F) const {
+        const std::vector<double>& E = session.E;
         std::vector<double> B = E, next(B.size());
-        Report report{"jacobi"};
         // The residual at a sweep's input is exactly the change the sweep makes.
         detail::sweep_until(
-            report,
+            session, {options_.tolerance, options_.max_iterations}, detail::emission_scale(E),
             [&] {
-                const double change = sweep<K>(F, E, R, B, next);
+                const double change = sweep<band_count<S>>(F, E, session.R, B, next);
                 B.swap(next);
                 return change;
             },
-            [&] { return std::span<const double>(B); }, detail::emission_scale(E),
-            options_.tolerance, options_.max_iterations, progress);
-        report.seconds = clock.seconds();
-        return {detail::from_doubles<S>(B), report};
+            [&] { return std::span<const double>(B); });
+        return B;
     }
 
   private:
@@ -66,11 +57,9 @@ class Jacobi {
             return change;
         });
     }
-
-    JacobiOptions options_;
 };
 
-// The solver contract (common.hpp): the sweeping solvers work on dense and sparse assembled
+// The solver contract (concepts.hpp): the sweeping solvers work on dense and sparse assembled
 // matrices.
 static_assert(Solver<Jacobi, float, DenseMatrix> && Solver<Jacobi, Rgb, SparseMatrix>);
 

@@ -11,6 +11,7 @@
 #include <radiosity/form_factor/matrix.hpp>
 #include <radiosity/progress.hpp>
 #include <radiosity/solver/common.hpp>
+#include <radiosity/solver/session.hpp>
 
 #include <array>
 #include <cstdint>
@@ -66,64 +67,51 @@ std::vector<S> with_ambient(const System<S>& system, std::span<const S> B,
 /// light is still missing. Iterations are shots. Works on any RowSource: a form-factor method
 /// (rows on demand, cached within row_cache_bytes) or an assembled matrix.
 /// Cost per shot: one row of F and O(n).
-class Progressive {
+class Progressive : public detail::SolverBase<Progressive, ProgressiveOptions> {
   public:
-    /// A solver with the given settings.
-    explicit Progressive(ProgressiveOptions options = {}) : options_(options) {}
+    using SolverBase::SolverBase;
+    static constexpr const char* name = "progressive";  ///< Report::solver
 
-    /// Solves the system, computing rows of F from `rows` as patches shoot. Throws Error for
-    /// bad input.
+    /// The iteration of solve() (detail::SolverBase): shoots, computing rows of F from `rows`
+    /// as patches shoot, until the stopping rule holds; returns B (with the ambient term if
+    /// asked for).
     template <SpectrumType S, RowSource Rows>
-    Solution<S> solve(const System<S>& system, const Rows& rows,
-                      const ProgressCallback& progress = {}) const {
-        if constexpr (requires { rows.size(); })
-            detail::check_system(system, rows.size(), "progressive");
-        else
-            system.validate();
-        const detail::Stopwatch clock;
+    std::vector<S> iterate(detail::SolveSession<S>& session, const Rows& rows) const {
         constexpr std::size_t K = band_count<S>;
-        const std::size_t n = system.size();
-        const std::vector<double> E = detail::to_doubles(system.emission),
-                                  R = detail::to_doubles(system.reflectance);
-        std::vector<double> B = E, unshot = E;
-        const double emitted = power<K>(unshot, system.area);
-        Report report{"progressive"};
+        const std::span<const double> area = session.system.area;
+        const std::size_t n = area.size();
+        Report& report = session.report;
+        std::vector<double> B = session.E, unshot = session.E;
+        const double emitted = power<K>(unshot, area);
         report.residual = emitted > 0.0 ? 1.0 : 0.0;
-        const std::size_t cap = options_.max_iterations > 0 ? options_.max_iterations
-                                                            : std::max<std::size_t>(1000, 100 * n);
+        const detail::StoppingRule rule{
+            options_.tolerance, options_.max_iterations > 0 ? options_.max_iterations
+                                                            : std::max<std::size_t>(1000, 100 * n)};
         RowCache cache(n, options_.row_cache_bytes);
         const std::size_t report_every =
             options_.report_every > 0 ? options_.report_every : std::max<std::size_t>(1, n / 100);
         double left = emitted;  // unshot power, kept up to date shot by shot
-        while (report.residual > options_.tolerance && report.iterations < cap) {
-            const std::size_t j = brightest<K>(unshot, system.area);
-            left -= power<K>(std::span(unshot).subspan(j * K, K), system.area.subspan(j, 1));
-            left += shoot<K>(j, cache.row(rows, j), R, system.area, B, unshot);
+        while (!rule.met(report.residual) && !rule.exhausted(report.iterations)) {
+            const std::size_t j = brightest<K>(unshot, area);
+            left -= power<K>(std::span(unshot).subspan(j * K, K), area.subspan(j, 1));
+            left += shoot<K>(j, cache.row(rows, j), session.R, area, B, unshot);
             ++report.iterations;
             const bool due = report.iterations % report_every == 0;
-            if (due) left = power<K>(unshot, system.area);  // exact again: no drift
+            if (due) left = power<K>(unshot, area);  // exact again: no drift
             report.residual = std::max(left, 0.0) / emitted;
-            if (due &&
-                !detail::report(progress, Progress{.phase = "solve",
-                                                   .fraction = detail::convergence_fraction(
-                                                       1.0, report.residual, options_.tolerance),
-                                                   .residual = report.residual,
-                                                   .iteration = report.iterations,
-                                                   .radiosity = B,
-                                                   .unshot = unshot})) {
-                report.cancelled = true;
+            if (due && !session.proceed(Progress{.phase = "solve",
+                                                 .fraction = rule.fraction(1.0, report.residual),
+                                                 .residual = report.residual,
+                                                 .iteration = report.iterations,
+                                                 .radiosity = B,
+                                                 .unshot = unshot}))
                 break;
-            }
         }
-        if (emitted > 0.0) report.residual = power<K>(unshot, system.area) / emitted;
-        report.converged = report.residual <= options_.tolerance;
+        if (emitted > 0.0) report.residual = power<K>(unshot, area) / emitted;
+        report.converged = rule.met(report.residual);
         std::vector<S> result = detail::from_doubles<S>(B);
-        if (options_.ambient) {
-            const std::vector<S> dB = detail::from_doubles<S>(unshot);
-            result = with_ambient<S>(system, result, dB);
-        }
-        report.seconds = clock.seconds();
-        return {std::move(result), report};
+        if (!options_.ambient) return result;
+        return with_ambient<S>(session.system, result, detail::from_doubles<S>(unshot));
     }
 
   private:
@@ -213,11 +201,9 @@ class Progressive {
         }
         return reflected;
     }
-
-    ProgressiveOptions options_;
 };
 
-// The solver contract (common.hpp): shooting takes assembled matrices as row sources too.
+// The solver contract (concepts.hpp): shooting takes assembled matrices as row sources too.
 static_assert(Solver<Progressive, float, DenseMatrix> && Solver<Progressive, Rgb, SparseMatrix>);
 
 }  // namespace radiosity

@@ -1,0 +1,86 @@
+// radiosity: the command-line program. Solves a scene (an OBJ, RRV or glTF file or a built-in
+// scene) by the radiosity method and writes a picture, a PLY mesh, glTF, a lightmap and CSV
+// dumps. With no arguments it renders the built-in Cornell box into cornell_box.png. Errors: one
+// line on stderr, exit status 1 (2 for a bad command line, 130 after Ctrl-C).
+//
+// Its jobs live beside it: options.hpp (the command line), scene.hpp (loading, the camera),
+// solve.hpp (options to SolveOptions, the progress bar, Ctrl-C) and outputs.hpp (what it
+// writes); this file only runs them in order.
+
+#include "cli/options.hpp"
+#include "cli/outputs.hpp"
+#include "cli/scene.hpp"
+#include "cli/solve.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <exception>
+#include <optional>
+
+namespace {
+
+namespace cli = radiosity::cli;
+
+/// Everything the command line can set.
+struct Args {
+    cli::SceneArgs scene;
+    cli::OutputArgs out;
+    bool quiet = false;    // no progress bar
+    bool partial = false;  // on Ctrl-C during the solve, still write what was computed
+};
+
+int run(const Args& a) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto scene = cli::load_scene(a.scene.scene);
+    cli::check_outputs(a.out);
+    const auto& lightmap = a.out.lightmap.path;
+    radiosity::SolveOptions o = cli::solve_options(a.scene, scene, !lightmap.empty());
+    const auto& e = a.out.exports;
+    o.keep_form_factors = !e.dump_form_factors.empty() || !e.form_factors_text.empty();
+    o.ambient = a.partial;  // progressive shooting stopped early: show the unshot light too
+    const auto solved = cli::solve_scene(
+        scene, o,
+        lightmap.empty() ? std::nullopt : std::optional(cli::lightmap_options(a.out.lightmap)),
+        a.quiet);
+    if (!solved) {
+        std::fprintf(stderr,
+                     "radiosity: interrupted while computing form factors; nothing written\n");
+        return 130;
+    }
+    const auto& r = solved->result.report;
+    if (r.cancelled && !a.partial) {
+        std::fprintf(stderr,
+                     "radiosity: interrupted after %zu iterations (residual %.2e); nothing "
+                     "written (--partial writes what was computed)\n",
+                     r.iterations, r.residual);
+        return 130;
+    }
+    const std::string image = cli::write_outputs(*solved, a.scene.scene, a.out, a.quiet);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    cli::print_summary(solved->result, a.scene.form_factor, seconds, image);
+    return r.cancelled ? 130 : 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    Args a;
+    CLI::App app{
+        "radiosity: diffuse global illumination by the radiosity method.\n"
+        "With no arguments, renders the built-in Cornell box into cornell_box.png.",
+        "radiosity"};
+    app.failure_message(CLI::FailureMessage::simple);
+    cli::add_scene_options(app, a.scene);
+    cli::add_output_options(app, a.out);
+    app.add_flag("--quiet", a.quiet, "no progress bar");
+    app.add_flag("--partial", a.partial,
+                 "on Ctrl-C during the solve, still write the outputs from what was computed");
+    if (const auto status = cli::parse(app, argc, argv)) return *status;
+    try {
+        return run(a);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "radiosity: error: %s\n", e.what());
+        return 1;
+    }
+}

@@ -1,0 +1,174 @@
+// Writing the solution (outputs.hpp).
+#include "cli/outputs.hpp"
+
+#include <radiosity/error.hpp>
+#include <radiosity/io/gltf.hpp>
+#include <radiosity/io/image.hpp>
+#include <radiosity/io/ply.hpp>
+#include <radiosity/io/rrv.hpp>
+#include <radiosity/shading/camera.hpp>
+#include <radiosity/shading/vertex_shading.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+namespace radiosity::cli {
+
+void check_outputs(const OutputArgs& a) {
+    if (!a.lightmap.path.empty()) radiosity::picture_format(a.lightmap.path);
+}
+
+void write_form_factor_text(const std::string& path, const radiosity::DenseMatrix& F,
+                            const radiosity::PatchTable& patches) {
+    std::ofstream out(path);
+    if (!out) throw radiosity::Error(path + ": cannot open for writing");
+    char buf[32];
+    out << "# radiosity view factors: n, then areas A_i, then rows F_ij (A_i F_ij = A_j F_ji)\n";
+    out << F.size() << '\n';
+    for (std::size_t i = 0; i < F.size(); ++i) {
+        std::snprintf(buf, sizeof buf, "%.12g", patches.area(i));
+        out << (i ? " " : "") << buf;
+    }
+    out << '\n';
+    for (std::size_t i = 0; i < F.size(); ++i) {
+        for (std::size_t j = 0; j < F.size(); ++j) {
+            std::snprintf(buf, sizeof buf, "%.9g", static_cast<double>(F(i, j)));
+            out << (j ? " " : "") << buf;
+        }
+        out << '\n';
+    }
+    if (!out) throw radiosity::Error(path + ": write failed");
+}
+
+void write_form_factors(const std::string& path, const radiosity::DenseMatrix& F) {
+    std::ofstream out(path);
+    if (!out) throw radiosity::Error(path + ": cannot open for writing");
+    char buf[32];
+    for (std::size_t i = 0; i < F.size(); ++i) {
+        for (std::size_t j = 0; j < F.size(); ++j) {
+            std::snprintf(buf, sizeof buf, "%.9g", static_cast<double>(F(i, j)));
+            out << (j ? "," : "") << buf;
+        }
+        out << '\n';
+    }
+    if (!out) throw radiosity::Error(path + ": write failed");
+}
+
+void write_patches(const std::string& path, const radiosity::SolveResult<Colour>& r) {
+    std::ofstream out(path);
+    if (!out) throw radiosity::Error(path + ": cannot open for writing");
+    out << "patch,area,cx,cy,cz,nx,ny,nz,E_r,E_g,E_b,R_r,R_g,R_b,B_r,B_g,B_b\n";
+    char buf[64];
+    auto num = [&](double x) {
+        std::snprintf(buf, sizeof buf, ",%.9g", x);
+        out << buf;
+    };
+    for (auto f : r.mesh.faces()) {
+        const auto i = static_cast<std::size_t>(f.idx());
+        const auto& d = r.mesh.data(f);
+        out << i;
+        num(r.patches.area(i));
+        for (int k = 0; k < 3; ++k) num(r.patches.centroid(i)[k]);
+        for (int k = 0; k < 3; ++k) num(r.patches.normal(i)[k]);
+        for (const Colour* c : {&d.emission, &d.reflectance, &d.radiosity})
+            for (std::size_t k = 0; k < 3; ++k) num(band(*c, k));
+        out << '\n';
+    }
+    if (!out) throw radiosity::Error(path + ": write failed");
+}
+
+void write_lightmap(const LightmapArgs& a, const std::string& gltf,
+                    const radiosity::BakeResult<Colour>& b, const radiosity::ToneMapOptions& tone,
+                    bool quiet) {
+    radiosity::write_image(b.lightmap.image, a.path, tone);
+    if (!gltf.empty())
+        radiosity::write_gltf_lightmapped(b.shaded, b.lightmap.image, gltf,
+                                          radiosity::exposure_scale(b.lightmap.image.pixels, tone));
+    using radiosity::TexelState;
+    if (!quiet)
+        std::fprintf(stderr,
+                     "lightmap %dx%d, %s UVs (%zu charts, %.4g texels per unit, patches cut to "
+                     "%.4g units): %zu surface, %zu inside geometry, %zu gutter texels; unwrap "
+                     "%.2f s, solve %.2f s, bake %.2f s; wrote %s\n",
+                     b.atlas.width, b.atlas.height, b.generated_uvs ? "generated" : "the scene's",
+                     b.atlas.charts, b.atlas.texel_density, b.patch_edge,
+                     b.lightmap.count(TexelState::surface), b.lightmap.count(TexelState::inside),
+                     b.lightmap.count(TexelState::dilated), b.unwrap_seconds, b.solve_seconds,
+                     b.bake_seconds, a.path.c_str());
+}
+
+std::string picture_path(const std::string& scene, const OutputArgs& a) {
+    const auto& e = a.exports;
+    for (const std::string* o :
+         {&a.picture.image, &a.picture.hdr, &e.ply, &e.gltf, &e.rrv_out, &a.lightmap.path,
+          &e.dump_patches, &e.dump_form_factors, &e.form_factors_text})
+        if (!o->empty()) return a.picture.image;
+    return scene == "cornell" ? "cornell_box.png"
+                              : std::filesystem::path(scene).stem().string() + ".png";
+}
+
+namespace {
+
+/// The dumps: the matrix (CSV, text) and the patches (CSV).
+void write_dumps(const radiosity::SolveResult<Colour>& r, const ExportArgs& e) {
+    if (!e.dump_form_factors.empty()) write_form_factors(e.dump_form_factors, *r.form_factors);
+    if (!e.form_factors_text.empty())
+        write_form_factor_text(e.form_factors_text, *r.form_factors, r.patches);
+    if (!e.dump_patches.empty()) write_patches(e.dump_patches, r);
+}
+
+/// The PNG (if image is not empty) and the HDR picture of the shaded mesh, through the chosen
+/// camera.
+void write_pictures(const radiosity::ShadedMesh& shaded, const std::string& image,
+                    const std::string& scene, const radiosity::Mesh<Colour>& mesh,
+                    const PictureArgs& p, const radiosity::ToneMapOptions& tone) {
+    if (image.empty() && p.hdr.empty()) return;
+    // Back faces culled: a closed room seen from outside shows its inside (a cut-away).
+    const auto picture =
+        radiosity::render(shaded, chosen_camera(p.camera, scene, mesh),
+                          {.width = p.width, .height = p.height, .cull_back_faces = true});
+    if (!image.empty()) radiosity::write_png(picture, image, tone);
+    if (!p.hdr.empty()) radiosity::write_hdr(picture, p.hdr);
+}
+
+}  // namespace
+
+std::string write_outputs(const Solution& s, const std::string& scene, const OutputArgs& a,
+                          bool quiet) {
+    const auto& r = s.result;
+    const auto& e = a.exports;
+    write_dumps(r, e);
+    const std::string image = picture_path(scene, a);
+    const radiosity::ShadedMesh shaded = s.baked          ? s.baked->shaded
+                                         : a.picture.flat ? radiosity::flat_shading(r.mesh)
+                                                          : radiosity::smooth_shading(r.mesh);
+    radiosity::ToneMapOptions tone;
+    tone.stops = a.picture.exposure;
+    if (s.baked) write_lightmap(a.lightmap, e.gltf, *s.baked, tone, quiet);
+    write_pictures(shaded, image, scene, r.mesh, a.picture, tone);
+    if (!e.rrv_out.empty()) radiosity::write_rrv(r.mesh, e.rrv_out);
+    if (!e.gltf.empty() && !s.baked)
+        radiosity::write_gltf(shaded, e.gltf, radiosity::exposure_scale(shaded.colours, tone));
+    if (!e.ply.empty())
+        radiosity::write_ply(
+            shaded, e.ply, radiosity::exposure_scale(shaded.colours, tone),
+            e.ply_float ? radiosity::PlyColours::linear_float : radiosity::PlyColours::srgb8);
+    return image;
+}
+
+void print_summary(const radiosity::SolveResult<Colour>& r, const std::string& form_factor,
+                   double seconds, const std::string& image) {
+    const auto& report = r.report;
+    std::fprintf(stderr,
+                 "%zu patches; form factors (%s) %.2f s; %s: %zu iterations, residual %.2e, %s "
+                 "in %.2f s; total %.2f s%s%s\n",
+                 r.patches.size(), form_factor.c_str(), r.form_factor_seconds,
+                 report.solver.c_str(), report.iterations, report.residual,
+                 report.cancelled   ? "INTERRUPTED"
+                 : report.converged ? "converged"
+                                    : "NOT converged",
+                 report.seconds, seconds, image.empty() ? "" : "; wrote ", image.c_str());
+}
+
+}  // namespace radiosity::cli

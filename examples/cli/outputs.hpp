@@ -1,0 +1,53 @@
+#pragma once
+/// @file outputs.hpp  What the radiosity program writes from a solution: pictures, exports
+/// (PLY, glTF, RRV), the lightmap, the CSV and text dumps, and the one-line summary.
+
+#include "cli/options.hpp"
+#include "cli/solve.hpp"
+
+#include <radiosity/form_factor/matrix.hpp>
+#include <radiosity/shading/tonemap.hpp>
+
+#include <string>
+
+namespace radiosity::cli {
+
+/// Refuses before the solve what would only fail after it: a lightmap picture of an unknown
+/// format (radiosity::Error naming it).
+void check_outputs(const OutputArgs& a);
+
+/// Writes F as CSV, line i holding F_ij with 9 significant digits. Throws radiosity::Error
+/// naming the path if it cannot be written.
+void write_form_factors(const std::string& path, const radiosity::DenseMatrix& F);
+
+/// Writes F as plain text for thermal-analysis tools: a comment, n, then the n areas, then n
+/// rows of n view factors, whitespace-separated. Throws radiosity::Error naming the path.
+void write_form_factor_text(const std::string& path, const radiosity::DenseMatrix& F,
+                            const radiosity::PatchTable& patches);
+
+/// Writes the patches as CSV: index, area, centroid, normal, E, R and B per band, in the
+/// order of the form-factor dumps. Throws radiosity::Error naming the path.
+void write_patches(const std::string& path, const radiosity::SolveResult<Colour>& r);
+
+/// Writes the baked lightmap and, given a glTF path, the glTF textured with it (the PNG and
+/// the glTF's texture take the same exposure, chosen from the lightmap's texels); unless
+/// quiet, says on stderr what the atlas holds and where the time went.
+void write_lightmap(const LightmapArgs& a, const std::string& gltf,
+                    const radiosity::BakeResult<Colour>& b, const radiosity::ToneMapOptions& tone,
+                    bool quiet);
+
+/// The PNG to write: --image; or, when no output at all is named, cornell_box.png for the
+/// Cornell box and the scene's name with .png (in the current folder) for any other scene.
+std::string picture_path(const std::string& scene, const OutputArgs& a);
+
+/// Writes every output that a names, after the dumps the shaded mesh (flat, smooth or the
+/// bake's) for the picture and the exports; returns the PNG written ("" if none).
+std::string write_outputs(const Solution& s, const std::string& scene, const OutputArgs& a,
+                          bool quiet);
+
+/// The summary on stderr: patches, the form factors' and the solver's time and report, the
+/// total time and the picture written.
+void print_summary(const radiosity::SolveResult<Colour>& r, const std::string& form_factor,
+                   double seconds, const std::string& image);
+
+}  // namespace radiosity::cli

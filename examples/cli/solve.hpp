@@ -1,0 +1,61 @@
+#pragma once
+/// @file solve.hpp  Solving as the radiosity programs do: the command line's options turned into
+/// SolveOptions (with the default meshing rule), and a solve or lightmap bake that shows a
+/// progress bar on stderr and stops cleanly on Ctrl-C.
+
+#include "cli/options.hpp"
+#include "cli/scene.hpp"
+
+#include <radiosity/lightmap/lightmap.hpp>
+#include <radiosity/progress.hpp>
+#include <radiosity/solve.hpp>
+
+#include <chrono>
+#include <optional>
+#include <string>
+
+namespace radiosity::cli {
+
+/// The library's options for a's scene, meshing, form factors and solver. Without --max-edge
+/// the patches' edges are cut to 1/30 of the scene's bounding-box diagonal, unless the area
+/// rule (--max-area, --divide) or a lightmap's texels (sized_by_texels) size them instead.
+radiosity::SolveOptions solve_options(const SceneArgs& a, const radiosity::Mesh<Colour>& scene,
+                                      bool sized_by_texels = false);
+
+/// The library's lightmap options for --lightmap-size, --texel-density, --lightmap-gutter and
+/// --texels-per-patch (dilation fills each chart's own gutter, no further).
+radiosity::LightmapOptions lightmap_options(const LightmapArgs& a);
+
+/// A progress bar on stderr: phase, percentage and an estimate of the time left, redrawn in
+/// place on a terminal, one line per phase otherwise. It also relays Ctrl-C (see solve_scene):
+/// returning false asks the library to stop.
+class ProgressBar {
+  public:
+    /// quiet: draw nothing, only relay Ctrl-C.
+    explicit ProgressBar(bool quiet);
+    /// The progress callback (radiosity::ProgressCallback).
+    bool operator()(const radiosity::Progress& p);
+    /// Ends the bar's line.
+    void finish() const;
+
+  private:
+    bool quiet_, tty_;
+    std::string phase_;
+    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+/// A solution: the solved scene and, when a lightmap was baked, the bake (whose own solution
+/// has been moved into `result`).
+struct Solution {
+    radiosity::SolveResult<Colour> result;
+    std::optional<radiosity::BakeResult<Colour>> baked;
+};
+
+/// Solves the scene (or, given lightmap options, bakes it) with a ProgressBar as o.progress,
+/// Ctrl-C asking it to stop: a solver stopped that way returns its report with `cancelled`
+/// set. Returns nothing if Ctrl-C came while the form factors were computed (nothing to show).
+std::optional<Solution> solve_scene(const radiosity::Mesh<Colour>& scene, radiosity::SolveOptions o,
+                                    const std::optional<radiosity::LightmapOptions>& lightmap,
+                                    bool quiet);
+
+}  // namespace radiosity::cli
