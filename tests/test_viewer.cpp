@@ -26,6 +26,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -49,7 +50,17 @@ namespace fs = std::filesystem;
 constexpr int W = 512, H = 512;
 /// The meshing of every run: coarse enough for quick solves, fine enough for a wireframe.
 constexpr double max_edge = 60.0;
-const std::string common = " cornell --max-edge 60 --quiet";
+/// The published Cornell camera's field of view: 25 mm film behind a 35 mm lens.
+const double cornell_fov = 2.0 * std::atan(12.5 / 35.0) * 180.0 / std::numbers::pi;
+/// The runs on the default camera (whatever the `radiosity` program's default is).
+const std::string defaults = " cornell --max-edge 60 --quiet";
+/// The runs whose pixels are compared with the library's renderer: the published Cornell camera
+/// (cornell_camera), named on the command line so that they do not hang on the default one.
+const std::string common = [] {
+    char fov[64];
+    std::snprintf(fov, sizeof fov, "%.17g", cornell_fov);
+    return defaults + " --camera 278,273,-800,278,273,0,0,1,0 --fov " + fov;
+}();
 
 struct Run {
     int status = -1;
@@ -116,10 +127,12 @@ Picture read_png(const std::string& file) {
     return p;
 }
 
-/// A screenshot of the Cornell box by the viewer with the given extra arguments.
-Picture screenshot(const std::string& name, const std::string& args) {
+/// A screenshot of the Cornell box by the viewer with the given extra arguments (after `base`:
+/// the pinned camera unless told otherwise).
+Picture screenshot(const std::string& name, const std::string& args,
+                   const std::string& base = common) {
     const std::string file = path(name + ".png");
-    const Run r = run(common + " --screenshot '" + file + "' " + args);
+    const Run r = run(base + " --screenshot '" + file + "' " + args);
     INFO(r.err);
     REQUIRE(r.status == 0);
     const Picture p = read_png(file);
@@ -128,12 +141,10 @@ Picture screenshot(const std::string& name, const std::string& args) {
     return p;
 }
 
-/// The published Cornell camera, as the `radiosity` program places it.
+/// The published Cornell camera (the Cornell Program of Computer Graphics' box data), which
+/// `common` names on the viewer's command line.
 Camera cornell_camera() {
-    return {{278.0, 273.0, -800.0},
-            {278.0, 273.0, 0.0},
-            {0.0, 1.0, 0.0},
-            2.0 * std::atan(12.5 / 35.0) * 180.0 / std::numbers::pi};
+    return {{278.0, 273.0, -800.0}, {278.0, 273.0, 0.0}, {0.0, 1.0, 0.0}, cornell_fov};
 }
 
 /// The library's side: the same patches as the viewer's, the patch each pixel sees (by the
@@ -274,7 +285,7 @@ TEST_CASE("the red wall is on the left and the green wall on the right, in every
     // 3 and 1.4 (or 1.6 for the reflectance alone).
     for (const std::string mode : {"flat", "smooth", "reflectance"}) {
         CAPTURE(mode);
-        const Picture p = screenshot("walls_" + mode, "--mode " + mode);
+        const Picture p = screenshot("walls_" + mode, "--mode " + mode, defaults);
         const glm::dvec3 left = mean(p, W / 25, 3 * H / 10, 4 * W / 25, 7 * H / 10);
         const glm::dvec3 right = mean(p, 21 * W / 25, 3 * H / 10, 24 * W / 25, 7 * H / 10);
         CAPTURE(left);
@@ -323,6 +334,34 @@ TEST_CASE("smooth and flat pictures are the library's pictures of the same solut
         CHECK(double(off) <= 0.02 * W * H);
         CHECK(sum / (W * H) < 0.5);
     }
+}
+
+TEST_CASE("the default camera is the radiosity program's") {
+    // The same solve (Gauss-Seidel over the hemicube matrix, the program's default), the same
+    // flat shading: where neither is told where to stand, both pictures are taken from one place.
+    const std::string file = path("program_flat.png");
+    const std::string cmd = "'" + std::string(RADIOSITY_CLI) + "'" + defaults +
+                            " --flat --image '" + file + "' > /dev/null 2>&1";
+    REQUIRE(std::system(cmd.c_str()) == 0);
+    const Picture program = read_png(file);
+    const Picture mine =
+        screenshot("default_camera", "--solver gauss-seidel --mode flat", defaults);
+    REQUIRE(program.width == W);
+    std::size_t off = 0, lit = 0;
+    double sum = 0.0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const int d = largest_difference(mine, program, x, y);
+            sum += d;
+            off += d > 1;
+            lit += !program.black(x, y);
+        }
+    CAPTURE(off);
+    CHECK(lit > std::size_t(W * H / 2));  // the scene is in view, not just a black picture
+    // Along the patches' edges the two rasterisers may give a pixel to different patches; a
+    // camera moved or turned by a pixel would change the colour along every edge of the picture.
+    CHECK(double(off) <= 0.02 * W * H);
+    CHECK(sum / (W * H) < 0.5);
 }
 
 TEST_CASE("the wireframe draws the edges of every patch in view, and nothing inside them") {
