@@ -3,7 +3,11 @@
 set -euo pipefail
 packages=(cmake g++ make clang-format libopenmesh-dev libglm-dev libtinyobjloader-dev libstb-dev
           doctest-dev libbenchmark-dev nlohmann-json3-dev libpugixml-dev libcli11-dev
-          libtinyexr-dev libtinygltf-dev clang libclang-rt-14-dev)
+          libtinyexr-dev libtinygltf-dev
+          # the readers' fuzzers (clang's libFuzzer, scripts/fuzz.sh)
+          clang libclang-rt-14-dev
+          # the viewer (radiosity-view), and Xvfb with Mesa's software OpenGL for its tests
+          pkg-config libglfw3-dev libepoxy-dev libimgui-dev xvfb xauth libgl1-mesa-dri)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

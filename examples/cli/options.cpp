@@ -58,17 +58,7 @@ void add_picture_options(CLI::Option_group& g, PictureArgs& a) {
     g.add_option("--image", a.image,
                  "write a PNG picture (Cornell box camera, or one that frames the scene)");
     g.add_option("--hdr", a.hdr, "write a linear Radiance HDR picture (radiance B / pi)");
-    g.add_option("--width", a.width, "image width")
-        ->check(CLI::Range(1, 16384))
-        ->capture_default_str();
-    g.add_option("--height", a.height, "image height")
-        ->check(CLI::Range(1, 16384))
-        ->capture_default_str();
-    add_camera_options(g, a.camera);
-    g.add_flag("--flat", a.flat, "flat shading (one colour per patch) instead of smooth");
-    g.add_option("--exposure", a.exposure, "exposure compensation in stops")
-        ->check(CLI::Range(-64.0, 64.0))
-        ->capture_default_str();
+    add_view_options(g, a);
 }
 
 void add_export_options(CLI::Option_group& g, ExportArgs& a) {
@@ -140,6 +130,20 @@ void add_camera_options(CLI::App& app, CameraArgs& a) {
         ->delimiter(',');
     app.add_option("--fov", a.fov, "vertical field of view in degrees")
         ->check(CLI::Range(1.0, 179.0));
+}
+
+void add_view_options(CLI::App& app, PictureArgs& a) {
+    app.add_option("--width", a.width, "image width")
+        ->check(CLI::Range(1, 16384))
+        ->capture_default_str();
+    app.add_option("--height", a.height, "image height")
+        ->check(CLI::Range(1, 16384))
+        ->capture_default_str();
+    add_camera_options(app, a.camera);
+    app.add_flag("--flat", a.flat, "flat shading (one colour per patch) instead of smooth");
+    app.add_option("--exposure", a.exposure, "exposure compensation in stops")
+        ->check(CLI::Range(-64.0, 64.0))
+        ->capture_default_str();
 }
 
 void add_output_options(CLI::App& app, OutputArgs& a) {

@@ -77,6 +77,11 @@ struct LightmapArgs {
     double texels_per_patch = 4.0;  ///< longest patch edge in texels (0: the meshing options)
 };
 
+/// Declares how a picture of the solution is taken: --width, --height, --camera, --fov, --flat
+/// and --exposure, on app or one of its option groups, filling those fields of a (not image or
+/// hdr). The `radiosity` program's pictures and the viewer's both take them.
+void add_view_options(CLI::App& app, PictureArgs& a);
+
 /// Everything the `radiosity` program writes.
 struct OutputArgs {
     PictureArgs picture;

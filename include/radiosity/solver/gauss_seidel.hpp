@@ -46,13 +46,20 @@ class GaussSeidel : public detail::SolverBase<GaussSeidel, GaussSeidelOptions> {
         const detail::StoppingRule rule{options_.tolerance, options_.max_iterations};
         const double scale = detail::emission_scale(E);
         if constexpr (!DenseRowMatrix<Mx>) {
-            detail::sweep_until(session, rule, scale, [&] { return sweep<K>(F, E, R, B); });
+            detail::sweep_until(
+                session, rule, scale, [&] { return sweep<K>(F, E, R, B); },
+                [&] { return std::span<const double>(B); });
         } else {  // the fast path over dense rows: the same sweep with the same update
             const auto update = [](double e, double r, double gathered, double self) {
                 return updated(e, r, gathered, self);
             };
             detail::DenseGaussSeidel<K> dense(B);
-            detail::sweep_until(session, rule, scale, [&] { return dense.sweep(F, E, R, update); });
+            detail::sweep_until(
+                session, rule, scale, [&] { return dense.sweep(F, E, R, update); },
+                [&] {  // B is band-major during the sweeps: interleave it for the observer
+                    dense.copy_to(B);
+                    return std::span<const double>(B);
+                });
             dense.copy_to(B);
         }
         session.report.residual = detail::relative_residual<K>(F, E, R, B);

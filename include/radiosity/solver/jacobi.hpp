@@ -32,11 +32,13 @@ class Jacobi : public detail::SolverBase<Jacobi, JacobiOptions> {
         std::vector<double> B = E, next(B.size());
         // The residual at a sweep's input is exactly the change the sweep makes.
         detail::sweep_until(
-            session, {options_.tolerance, options_.max_iterations}, detail::emission_scale(E), [&] {
+            session, {options_.tolerance, options_.max_iterations}, detail::emission_scale(E),
+            [&] {
                 const double change = sweep<band_count<S>>(F, E, session.R, B, next);
                 B.swap(next);
                 return change;
-            });
+            },
+            [&] { return std::span<const double>(B); });
         return B;
     }
 

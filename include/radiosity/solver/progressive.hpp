@@ -27,7 +27,9 @@ struct ProgressiveOptions {
     std::size_t max_iterations = 0;  ///< guard on the number of shots; 0: 100 n (at least 1000)
     std::size_t row_cache_bytes = std::size_t(256) << 20;  ///< rows kept for patches that shoot
                                                            ///< again (0: none)
-    bool ambient = false;  ///< add the ambient term to the returned B (for early stops)
+    bool ambient = false;          ///< add the ambient term to the returned B (for early stops)
+    std::size_t report_every = 0;  ///< shots between progress reports (and exact re-sums of the
+                                   ///< unshot power); 0: n / 100
 };
 
 /// The ambient term (Cohen et al. 1988): the unshot radiosity spread evenly over the scene and
@@ -86,7 +88,8 @@ class Progressive : public detail::SolverBase<Progressive, ProgressiveOptions> {
             options_.tolerance, options_.max_iterations > 0 ? options_.max_iterations
                                                             : std::max<std::size_t>(1000, 100 * n)};
         RowCache cache(n, options_.row_cache_bytes);
-        const std::size_t report_every = std::max<std::size_t>(1, n / 100);
+        const std::size_t report_every =
+            options_.report_every > 0 ? options_.report_every : std::max<std::size_t>(1, n / 100);
         double left = emitted;  // unshot power, kept up to date shot by shot
         while (!rule.met(report.residual) && !rule.exhausted(report.iterations)) {
             const std::size_t j = brightest<K>(unshot, area);
@@ -96,7 +99,12 @@ class Progressive : public detail::SolverBase<Progressive, ProgressiveOptions> {
             const bool due = report.iterations % report_every == 0;
             if (due) left = power<K>(unshot, area);  // exact again: no drift
             report.residual = std::max(left, 0.0) / emitted;
-            if (due && !session.proceed(rule.fraction(1.0, report.residual), report.residual))
+            if (due && !session.proceed(Progress{.phase = "solve",
+                                                 .fraction = rule.fraction(1.0, report.residual),
+                                                 .residual = report.residual,
+                                                 .iteration = report.iterations,
+                                                 .radiosity = B,
+                                                 .unshot = unshot}))
                 break;
         }
         if (emitted > 0.0) report.residual = power<K>(unshot, area) / emitted;

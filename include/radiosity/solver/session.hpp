@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstddef>
 #include <optional>
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -63,10 +64,19 @@ class SolveSession {
     /// Reports progress (phase "solve") with the current relative residual; returns false, and
     /// marks the report cancelled, when the callback asks to stop.
     bool proceed(double fraction, double residual = 0.0) {
-        if (detail::report(progress_, "solve", fraction, residual)) return true;
+        return proceed(Progress{.phase = "solve", .fraction = fraction, .residual = residual});
+    }
+
+    /// The same with a full report (the iteration and the current values, for an observer that
+    /// draws them).
+    bool proceed(const Progress& p) {
+        if (detail::report(progress_, p)) return true;
         report.cancelled = true;
         return false;
     }
+
+    /// Whether anyone is told of progress (so that values for Progress are worth gathering).
+    bool observed() const { return static_cast<bool>(progress_); }
 
     /// Closes the solve with B as the iteration computed it (K doubles per patch).
     Solution<S> finish(const std::vector<double>& B) { return finish(from_doubles<S>(B)); }
@@ -132,9 +142,11 @@ struct StoppingRule {
 /// The loop shared by the sweeping solvers: calls sweep() (which returns the largest change of
 /// B, absolute) until the change relative to `scale` (max E) meets the rule, the rule's guard is
 /// reached or the progress callback cancels; fills iterations, residual (the last relative
-/// change), converged and cancelled.
-template <SpectrumType S, class Sweep>
-void sweep_until(SolveSession<S>& session, const StoppingRule& rule, double scale, Sweep&& sweep) {
+/// change), converged and cancelled. values() gives the current B (interleaved, as to_doubles)
+/// for Progress::radiosity; it is called only when the session is observed.
+template <SpectrumType S, class Sweep, class Values>
+void sweep_until(SolveSession<S>& session, const StoppingRule& rule, double scale, Sweep&& sweep,
+                 Values&& values) {
     Report& report = session.report;
     double first = -1.0;
     while (!rule.exhausted(report.iterations)) {
@@ -146,7 +158,13 @@ void sweep_until(SolveSession<S>& session, const StoppingRule& rule, double scal
             report.converged = true;
             return;
         }
-        if (!session.proceed(rule.fraction(first, change), change)) return;
+        if (!session.proceed(
+                Progress{.phase = "solve",
+                         .fraction = rule.fraction(first, change),
+                         .residual = change,
+                         .iteration = report.iterations,
+                         .radiosity = session.observed() ? values() : std::span<const double>{}}))
+            return;
     }
 }
 
