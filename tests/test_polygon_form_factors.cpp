@@ -9,7 +9,7 @@
 #include <radiosity/form_factor/analytic.hpp>
 #include <radiosity/form_factor/hemicube.hpp>
 #include <radiosity/form_factor/ray_cast.hpp>
-#include <radiosity/mesh/patch_table.hpp>
+#include <radiosity/geometry/patch_table.hpp>
 
 #include <doctest/doctest.h>
 
