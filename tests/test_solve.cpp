@@ -3,6 +3,7 @@
 // uniform emission and reflectance) gives B = E / (1 - rho) to the accuracy of the row sums.
 #include <radiosity/radiosity.hpp>
 
+#include "support/scenes.hpp"
 #include "support/threads.hpp"
 
 #include <doctest/doctest.h>
@@ -14,21 +15,9 @@
 #include <string>
 
 using namespace radiosity;
+using radiosity::test::furnace_cube;
 
 namespace {
-
-/// The unit cube as a closed scene, faces pointing inwards, one material for all.
-Scene<Rgb> furnace_cube(float emission, float rho) {
-    Scene<Rgb> s;
-    s.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
-                   {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
-    // counter-clockwise seen from inside the cube
-    s.faces = {{0, 1, 2, 3}, {4, 7, 6, 5}, {0, 3, 7, 4}, {1, 5, 6, 2}, {0, 4, 5, 1}, {3, 2, 6, 7}};
-    s.face_material.assign(6, 0);
-    s.materials = {{Rgb(emission), Rgb(rho), "furnace"}};
-    s.source = "furnace cube";
-    return s;
-}
 
 double max_relative_difference(const Mesh<Rgb>& a, const Mesh<Rgb>& b) {
     double biggest = 0.0, worst = 0.0;
