@@ -193,8 +193,8 @@ struct StoppingRule {
     }
 
     /// The sweeps m after which an iteration that contracts the error by q, started from B = E,
-    /// is sure to meet the tolerance with the bound from its change. For E >= 0 and M >= 0,
-    /// ||e_0|| = ||M B*|| <= q ||B*||, so ||e_m|| <= q^(m+1) ||B*|| and the change of sweep m is
+    /// is sure to meet the tolerance with the bound from its change. From B = E, e_0 = -M B*, so
+    /// ||e_0|| <= q ||B*||, so ||e_m|| <= q^(m+1) ||B*|| and the change of sweep m is
     /// at most (1 + q) q^m ||B*||; the relative bound is then at most x / (1 - 2 x) with
     /// x = q^(m+1) (1 + q) / (1 - q), within the tolerance once x <= tol / (1 + 2 tol).
     /// Infinity where there is no bound (q >= 1 or tol <= 0). Cost: O(1).
