@@ -390,7 +390,8 @@ int main(int argc, char** argv) {
                    "(RRV's patches, to compare with its results)")
         ->check(CLI::PositiveNumber)
         ->excludes(max_area);
-    app.add_option("--tolerance", a.tolerance, "relative residual at which the solver stops")
+    app.add_option("--tolerance", a.tolerance,
+                   "bound on the relative error of B, |B - B*| / |B*|, at which the solver stops")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
     app.add_option("--resolution", a.resolution, "hemicube resolution in pixels (default 128)")
