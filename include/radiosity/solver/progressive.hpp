@@ -100,9 +100,9 @@ std::vector<S> with_ambient(const System<S>& system, std::span<const S> B,
 ///   patches, 6.3e-3 on the default 2,302-patch box, 2.2% / 4.3% / 4.8% in a closed cube of 96
 ///   patches at rho = 0.5 / 0.9 / 0.99 (128^2 hemicube; against the direct solve, shooting to
 ///   tolerance 1e-4 on the default box, 1e-6 on the others). Its columns are unknown, so the bound
-///   is in the power norm sum_i A_i |x_i| (every band), where ||M|| <= R_max max_j sum_i F_ji; q
-///   takes for max_j the largest row sum seen so far, at least 1 (a physical row sums to at most 1,
-///   up to the method's error).
+///   is in the power norm sum_i A_i |x_i| (every band), where ||M|| = max_j max_k sum_i R_i[k] F_ji; q
+///   is the largest of these over the rows seen so far, and at least R_max, which bounds them for
+///   rows not yet seen (a physical row sums to at most 1, up to the method's error).
 /// The report's residual is the unshot power over the emitted power, sum_i |dB_i| A_i /
 /// sum_i E_i A_i (summed over bands). Iterations are shots. Cost per shot: one row of F (on
 /// demand; cached within row_cache_bytes) and O(n K).
@@ -130,11 +130,11 @@ class Progressive : public detail::SolverBase<Progressive, ProgressiveOptions> {
                     return Shot{columns.copied() ? columns.view(j) : cache.row(j), false};
                 });
         } else {
-            RowCache cache(rows, n, options_.row_cache_bytes);
+            RowCache cache(rows, n, options_.row_cache_bytes, session.R, K);
             const double r_max = detail::max_abs(session.R);
             shoot_until<K>(
                 session, omega, B, unshot, Norm::power,
-                [&] { return r_max * std::max(1.0, cache.largest_row_sum()); },
+                [&] { return std::max(r_max, cache.largest_reflected()); },
                 [&](std::size_t j) {
                     return Shot{cache.row(j), true};
                 });
@@ -250,13 +250,16 @@ class Progressive : public detail::SolverBase<Progressive, ProgressiveOptions> {
     }
 
     /// Rows of patches that have shot, kept within a memory budget (first come, first kept):
-    /// the brightest patches shoot many times, and their rows are the costly ones to redo. Also
-    /// keeps the largest row sum sum_i |F_ji| computed, for the contraction bound.
+    /// the brightest patches shoot many times, and their rows are the costly ones to redo. Given
+    /// R (K bands a patch), also keeps the largest max_k sum_i R_i[k] |F_ji| of the rows computed:
+    /// the norm of row j's shot in the power norm, for the contraction bound.
     template <RowSource Rows>
     class RowCache {
       public:
-        RowCache(const Rows& rows, std::size_t n, std::size_t bytes)
-            : rows_(rows), n_(n), capacity_(n > 0 ? bytes / (n * sizeof(float)) : 0), scratch_(n) {}
+        RowCache(const Rows& rows, std::size_t n, std::size_t bytes,
+                 std::span<const double> R = {}, std::size_t K = 0)
+            : rows_(rows), n_(n), capacity_(n > 0 ? bytes / (n * sizeof(float)) : 0), scratch_(n),
+              R_(R), K_(K) {}
 
         /// Row j, computed or kept.
         std::span<const float> row(std::size_t j) {
@@ -268,13 +271,18 @@ class Progressive : public detail::SolverBase<Progressive, ProgressiveOptions> {
             }
             return computed(j, scratch_);
         }
-        /// The largest sum_i |F_ji| of the rows computed so far (0 before any).
-        double largest_row_sum() const { return largest_sum_; }
+        /// The largest max_k sum_i R_i[k] |F_ji| of the rows computed so far (0 before any, or
+        /// without R).
+        double largest_reflected() const { return largest_; }
 
       private:
         std::span<const float> computed(std::size_t j, std::vector<float>& out) {
             rows_.row(j, out);
-            largest_sum_ = std::max(largest_sum_, detail::dense_abs_sum(out));
+            for (std::size_t k = 0; k < K_; ++k) {
+                double sum = 0.0;
+                for (std::size_t i = 0; i < n_; ++i) sum += R_[i * K_ + k] * std::abs(out[i]);
+                largest_ = std::max(largest_, sum);
+            }
             return out;
         }
 
@@ -282,7 +290,9 @@ class Progressive : public detail::SolverBase<Progressive, ProgressiveOptions> {
         std::size_t n_, capacity_;
         std::unordered_map<std::size_t, std::vector<float>> kept_;
         std::vector<float> scratch_;
-        double largest_sum_ = 0.0;
+        std::span<const double> R_;
+        std::size_t K_;
+        double largest_ = 0.0;
     };
 
     /// The columns of an assembled matrix as rows (a RowSource: row j is column j of F, F_ij for
