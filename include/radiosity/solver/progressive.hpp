@@ -100,9 +100,9 @@ std::vector<S> with_ambient(const System<S>& system, std::span<const S> B,
 ///   patches, 6.3e-3 on the default 2,302-patch box, 2.2% / 4.3% / 4.8% in a closed cube of 96
 ///   patches at rho = 0.5 / 0.9 / 0.99 (128^2 hemicube; against the direct solve, shooting to
 ///   tolerance 1e-4 on the default box, 1e-6 on the others). Its columns are unknown, so the bound
-///   is in the power norm sum_i A_i |x_i| (every band), where ||M|| = max_j max_k sum_i R_i[k] F_ji; q
-///   is the largest of these over the rows seen so far, and at least R_max, which bounds them for
-///   rows not yet seen (a physical row sums to at most 1, up to the method's error).
+///   is in the power norm sum_i A_i |x_i| (every band), where ||M|| = max_j max_k sum_i R_i[k]
+///   F_ji; q is the largest of these over the rows seen so far, and at least R_max, which bounds
+///   them for rows not yet seen (a physical row sums to at most 1, up to the method's error).
 /// The report's residual is the unshot power over the emitted power, sum_i |dB_i| A_i /
 /// sum_i E_i A_i (summed over bands). Iterations are shots. Cost per shot: one row of F (on
 /// demand; cached within row_cache_bytes) and O(n K).
@@ -256,10 +256,14 @@ class Progressive : public detail::SolverBase<Progressive, ProgressiveOptions> {
     template <RowSource Rows>
     class RowCache {
       public:
-        RowCache(const Rows& rows, std::size_t n, std::size_t bytes,
-                 std::span<const double> R = {}, std::size_t K = 0)
-            : rows_(rows), n_(n), capacity_(n > 0 ? bytes / (n * sizeof(float)) : 0), scratch_(n),
-              R_(R), K_(K) {}
+        RowCache(const Rows& rows, std::size_t n, std::size_t bytes, std::span<const double> R = {},
+                 std::size_t K = 0)
+            : rows_(rows),
+              n_(n),
+              capacity_(n > 0 ? bytes / (n * sizeof(float)) : 0),
+              scratch_(n),
+              R_(R),
+              K_(K) {}
 
         /// Row j, computed or kept.
         std::span<const float> row(std::size_t j) {
