@@ -3,6 +3,7 @@
 // uniform emission and reflectance) gives B = E / (1 - rho) to the accuracy of the row sums.
 #include <radiosity/radiosity.hpp>
 
+#include "support/scenes.hpp"
 #include "support/threads.hpp"
 
 #include <doctest/doctest.h>
@@ -14,21 +15,9 @@
 #include <string>
 
 using namespace radiosity;
+using radiosity::test::furnace_cube;
 
 namespace {
-
-/// The unit cube as a closed scene, faces pointing inwards, one material for all.
-Scene<Rgb> furnace_cube(float emission, float rho) {
-    Scene<Rgb> s;
-    s.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
-                   {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
-    // counter-clockwise seen from inside the cube
-    s.faces = {{0, 1, 2, 3}, {4, 7, 6, 5}, {0, 3, 7, 4}, {1, 5, 6, 2}, {0, 4, 5, 1}, {3, 2, 6, 7}};
-    s.face_material.assign(6, 0);
-    s.materials = {{Rgb(emission), Rgb(rho), "furnace"}};
-    s.source = "furnace cube";
-    return s;
-}
 
 double max_relative_difference(const Mesh<Rgb>& a, const Mesh<Rgb>& b) {
     double biggest = 0.0, worst = 0.0;
@@ -62,8 +51,14 @@ TEST_CASE("every solver agrees with the direct solve on a coarse Cornell box to 
     for (SolverKind kind :
          {SolverKind::jacobi, SolverKind::gauss_seidel, SolverKind::progressive}) {
         o.solver = kind;
+        // Without visibility some columns of R F sum above 1, so shooting with rows on demand
+        // has no error bound here (it runs to its guard and says so); over the stored matrix it
+        // has the gathering solvers' q.
+        o.keep_form_factors = kind == SolverKind::progressive;
         const auto r = solve(scene, o);
         CAPTURE(r.report.solver);
+        CAPTURE(r.report.iterations);
+        CAPTURE(r.report.error_bound);
         CHECK(r.report.converged);
         CHECK(max_relative_difference(r.mesh, reference.mesh) < 1e-4);
     }

@@ -372,3 +372,80 @@ TEST_CASE("the sweeps give bit-identical B for 1, 2 and 3 threads" *
                               one.radiosity.size() * sizeof(Rgb)) == 0);
         }
 }
+
+TEST_CASE("the stopping rule: a sweep from B = E meets the tolerance within sweeps_needed") {
+    // The exact closed box at rho = 0.9: rows sum to 1, so q = 0.9, and the error of Jacobi
+    // shrinks by exactly 0.9 a sweep (B and E are uniform), the worst case that sweeps_needed
+    // provides for. Gauss-Seidel contracts at least as fast.
+    const Case k = load("furnace_cube_rho0.9");
+    const std::vector<float> E(k.E.begin(), k.E.end()), R(k.R.begin(), k.R.end());
+    const System<float> system{E, R, k.area};
+    const double q = detail::contraction_bound<1>(k.F, k.R);
+    CHECK(q == doctest::Approx(0.9).epsilon(1e-6));
+    for (double tolerance : {1e-2, 1e-4, 1e-6, 1e-8}) {
+        CAPTURE(tolerance);
+        const double needed = detail::StoppingRule::sweeps_needed(tolerance, q);
+        const auto rule = detail::StoppingRule::sweeps(tolerance, q, 0);
+        CHECK(rule.max_iterations == static_cast<std::size_t>(2 * needed + 10));
+        const auto jacobi = Jacobi({.tolerance = tolerance}).solve(system, k.F);
+        const auto gs = GaussSeidel({.tolerance = tolerance}).solve(system, k.F);
+        CHECK(jacobi.report.converged);
+        CHECK(gs.report.converged);
+        CHECK(static_cast<double>(jacobi.report.iterations) <= needed);
+        // and no looser than its worst case: it takes the change of a sweep as (1 + q) q^m ||B*||,
+        // here it is (1 - q) q^m ||B*||
+        const double slack = std::ceil(std::log((1 + q) / (1 - q)) / -std::log(q));
+        CHECK(needed <= static_cast<double>(jacobi.report.iterations) + slack + 1);
+        CHECK(gs.report.iterations <= jacobi.report.iterations);
+        for (const auto* s : {&jacobi, &gs})
+            for (float b : s->radiosity)
+                CHECK(std::abs(b - 10.0) <= s->report.error_bound * 10.0 * (1 + 1e-6));
+    }
+    // No bound without a contraction below 1, and no guard from it.
+    CHECK(std::isinf(detail::StoppingRule::sweeps_needed(1e-4, 1.0)));
+    CHECK(detail::StoppingRule::sweeps(1e-4, 1.0, 0).max_iterations == 1000);
+    CHECK(std::isinf(detail::bound_from_residual(1.0, 1e-3)));
+    CHECK(detail::bound_from_change(0.5, 1e-3) == doctest::Approx(1e-3));
+    CHECK(detail::relative_bound(1.0, 3.0) == doctest::Approx(0.5));
+}
+
+TEST_CASE("progressive shooting goes down the columns: dense copy, strided, sparse alike") {
+    // The columns of an assembled matrix come from a transposed copy where it fits in the row
+    // cache's budget, else from strided reads of F; of sparse rows, from a sparse transpose.
+    // The same numbers in the same order: the same shots and bit-identical B.
+    const RandomSystem s = random_system(300, 3);
+    const SparseMatrix sparse = all_entries(s.F);
+    const System<Rgb> system{s.E, s.R, s.area};
+    const auto copied = Progressive({.tolerance = 1e-6}).solve(system, s.F);
+    const auto strided =
+        Progressive({.tolerance = 1e-6, .row_cache_bytes = 1000}).solve(system, s.F);
+    const auto from_sparse = Progressive({.tolerance = 1e-6}).solve(system, sparse);
+    CHECK(copied.report.converged);
+    for (const auto* other : {&strided, &from_sparse}) {
+        CHECK(other->report.iterations == copied.report.iterations);
+        CHECK(std::memcmp(other->radiosity.data(), copied.radiosity.data(),
+                          copied.radiosity.size() * sizeof(Rgb)) == 0);
+    }
+    // and it is the gathering solvers' system: the direct solve's B within the tolerance
+    const auto direct = Direct().solve(system, s.F);
+    double diff = 0.0, size = 0.0;
+    for (std::size_t i = 0; i < s.E.size(); ++i)
+        for (std::size_t k = 0; k < 3; ++k) {
+            diff = std::max<double>(
+                diff, std::abs(band(copied.radiosity[i], k) - band(direct.radiosity[i], k)));
+            size = std::max<double>(size, std::abs(band(direct.radiosity[i], k)));
+        }
+    CHECK(diff / size <= copied.report.error_bound);
+    CHECK(copied.report.error_bound <= 1e-6);
+}
+
+TEST_CASE("progressive shooting refuses a relaxation outside (0, 2)") {
+    const Case k = load("furnace_cube_rho0.5");
+    const std::vector<float> E(k.E.begin(), k.E.end()), R(k.R.begin(), k.R.end());
+    const System<float> system{E, R, k.area};
+    for (double omega : {2.0, -0.5, std::nan("")}) {
+        CAPTURE(omega);
+        CHECK_THROWS_AS(Progressive({.relaxation = omega}).solve(system, k.F), Error);
+    }
+    CHECK(Progressive({.tolerance = 1e-6, .relaxation = 1.5}).solve(system, k.F).report.converged);
+}

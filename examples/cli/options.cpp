@@ -49,7 +49,8 @@ void add_solver_options(CLI::Option_group& g, SceneArgs& a) {
     g.add_option("--solver", a.solver, "solver")
         ->check(CLI::IsMember({"jacobi", "gauss-seidel", "progressive", "direct"}))
         ->capture_default_str();
-    g.add_option("--tolerance", a.tolerance, "relative residual at which the solver stops")
+    g.add_option("--tolerance", a.tolerance,
+                 "bound on the relative error of B, |B - B*| / |B*|, at which the solver stops")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
 }

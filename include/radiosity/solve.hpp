@@ -35,8 +35,11 @@ struct SolveOptions {
     SubdivisionOptions subdivision{};                       ///< max edge length (0: keep faces)
     FormFactorKind form_factor = FormFactorKind::hemicube;  ///< how F is computed
     SolverKind solver = SolverKind::gauss_seidel;           ///< how B = E + R F B is solved
-    double tolerance = 1e-4;         ///< relative residual (or unshot energy) to stop at
-    std::size_t max_iterations = 0;  ///< iteration guard; 0: the solver's default
+    /// Stop once the relative error of B against the converged B* is bounded by this:
+    /// ||B - B*||_inf / ||B*||_inf (progressive shooting with rows on demand: the same in the
+    /// power norm sum_i A_i |B_i - B*_i|); see detail::StoppingRule.
+    double tolerance = 1e-4;
+    std::size_t max_iterations = 0;  ///< iteration guard; 0: from what the tolerance needs
     AnalyticOptions analytic{};      ///< settings of the analytic method
     HemicubeOptions hemicube{};      ///< settings of the hemicube method
     RayCastOptions ray_cast{};       ///< settings of the ray-cast method

@@ -24,4 +24,19 @@ inline Scene<float> two_squares(bool same_material = true, double fold_degrees =
     return s;
 }
 
+/// The furnace: the unit cube as a closed scene, faces pointing inwards, one material of
+/// uniform emission and reflectance rho, whose exact radiosity is B = E / (1 - rho) on every
+/// patch (cases.json, furnace note).
+inline Scene<Rgb> furnace_cube(float emission, float rho) {
+    Scene<Rgb> s;
+    s.positions = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                   {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    // counter-clockwise seen from inside the cube
+    s.faces = {{0, 1, 2, 3}, {4, 7, 6, 5}, {0, 3, 7, 4}, {1, 5, 6, 2}, {0, 4, 5, 1}, {3, 2, 6, 7}};
+    s.face_material.assign(6, 0);
+    s.materials = {{Rgb(emission), Rgb(rho), "furnace"}};
+    s.source = "furnace cube";
+    return s;
+}
+
 }  // namespace radiosity::test

@@ -1,13 +1,14 @@
 #pragma once
 /// @file dense_dot.hpp  The gather sum_j F_ij B_j over a stretch of a dense float row, for K
-/// bands at once, accumulated in double: SSE2 where the compiler targets it (every x86-64
-/// build), plain C++ otherwise. B is held band-major (all patches' band 0, then band 1, ...) so
-/// that consecutive j are consecutive doubles. Every path adds in the same fixed order (dense_dot),
-/// so the sums are bit-identical across paths and do not depend on which thread computes them. (Off
-/// x86-64, a compiler that fuses the plain path's multiply and add rounds differently, yet still
-/// alike on every thread.)
+/// bands at once (and a row's sum of |F_ij|), accumulated in double: SSE2 where the compiler
+/// targets it (every x86-64 build), plain C++ otherwise. B is held band-major (all patches' band 0,
+/// then band 1, ...) so that consecutive j are consecutive doubles. Every path adds in the same
+/// fixed order (dense_dot), so the sums are bit-identical across paths and do not depend on which
+/// thread computes them. (Off x86-64, a compiler that fuses the plain path's multiply and add
+/// rounds differently, yet still alike on every thread.)
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -97,6 +98,23 @@ void dense_lanes(const float* f, const double* B, std::size_t stride, std::size_
 /// The sum of the lanes in their fixed order ((l0 + l1) + (l2 + l3)) + ((l4 + l5) + (l6 + l7)).
 inline double sum_lanes(const double* l) {
     return ((l[0] + l[1]) + (l[2] + l[3])) + ((l[4] + l[5]) + (l[6] + l[7]));
+}
+
+/// sum_j |f[j]| over a dense row, in double, term j in lane j % 8 and the lanes summed as in
+/// sum_lanes: a fixed order, so the same bits on every thread. Eight chains of adds, which the
+/// compiler may pack two to an SSE2 instruction: as fast as the gather, bound by memory.
+/// Cost: f.size() additions.
+inline double dense_abs_sum(std::span<const float> f) {
+    double lane[dot_lanes] = {};
+    const std::size_t body = f.size() / dot_lanes * dot_lanes;
+    for (std::size_t j = 0; j < body; j += dot_lanes) {
+        prefetch_ahead(f.data() + j);
+        for (std::size_t q = 0; q < dot_lanes; ++q)
+            lane[q] += std::abs(static_cast<double>(f[j + q]));
+    }
+    for (std::size_t j = body; j < f.size(); ++j)
+        lane[j - body] += std::abs(static_cast<double>(f[j]));
+    return sum_lanes(lane);
 }
 
 /// out[k] = sum_{j in [begin, end)} double(f[j]) B[k stride + j] for k < K: the part of the gather

@@ -32,6 +32,13 @@ class DenseGaussSeidel {
     /// Writes the current B back, interleaved.
     void copy_to(std::span<double> B) const { B_.copy_to(B); }
 
+    /// max over patches and bands of |B|. Cost: O(n K).
+    double max_abs() const {
+        double m = 0.0;
+        for (std::size_t i = 0; i < K * B_.stride(); ++i) m = std::max(m, std::abs(B_.data()[i]));
+        return m;
+    }
+
     /// One sweep in patch order, in place; returns the largest change of B. update(E_i, R_i,
     /// gathered, F_ii) is the Gauss-Seidel update of one band, gathered = sum_{j != i} F_ij B_j.
     /// Rows are cut into blocks [r0, r1) of block_rows. While a block is swept, its columns

@@ -1,7 +1,8 @@
 #pragma once
 /// @file common.hpp  The arithmetic the solvers share: patch values as doubles (K bands per
 /// patch, interleaved), the gather sum_j F_ij B_j over an assembled row, a parallel pass
-/// gathering every row, and the relative residual of B = E + R F B. The opening and closing of
+/// gathering every row, the relative residual of B = E + R F B, and the contraction bound
+/// q = ||R F||_inf on which the solvers' error bounds rest. The opening and closing of
 /// a solve, and its stopping rule, are in session.hpp.
 
 #include <radiosity/concepts.hpp>
@@ -61,12 +62,45 @@ void gather(const Mx& F, std::size_t i, const std::vector<double>& B, double* ac
     });
 }
 
+/// max_i |v_i|: the max norm of patch values (every band). Cost: O(n K).
+inline double max_abs(std::span<const double> v) {
+    double m = 0.0;
+    for (double x : v) m = std::max(m, std::abs(x));
+    return m;
+}
+
 /// max over patches and bands of |E|: the scale of the relative residual (1 if E = 0, so that
 /// the residual is then the absolute one).
 inline double emission_scale(const std::vector<double>& E) {
-    double m = 0.0;
-    for (double e : E) m = std::max(m, std::abs(e));
+    const double m = max_abs(E);
     return m > 0.0 ? m : 1.0;
+}
+
+/// q = max_i (max_k R_i[k]) sum_j |F_ij| = ||M||_inf for M = R F (per band; the largest band):
+/// the contraction bound of the stopping rule (session.hpp). It bounds the spectral radius of M,
+/// and with it the error of every sweeping solver; below 1 whenever R < 1 and rows sum to at
+/// most 1 (exactly so for analytic and ray-cast rows, up to the hemicube's pixel error for its
+/// rows). Rows in parallel, each summed in a fixed order, max exact: the same q for any thread
+/// count. Cost: one pass over F (about a sweep).
+template <std::size_t K, AssembledMatrix Mx>
+double contraction_bound(const Mx& F, const std::vector<double>& R) {
+    const auto count = static_cast<std::int64_t>(F.size());
+    double q = 0.0;
+#if defined(RADIOSITY_WITH_OPENMP)
+#pragma omp parallel for schedule(static) reduction(max : q) if (worth_threads(F.size(), 1))
+#endif
+    for (std::int64_t s = 0; s < count; ++s) {
+        const auto i = static_cast<std::size_t>(s);
+        double sum = 0.0;
+        if constexpr (DenseRowMatrix<Mx>)
+            sum = dense_abs_sum(F.row(i));
+        else
+            F.for_each_in_row(i, [&](std::size_t, float f) { sum += std::abs(double(f)); });
+        double r = 0.0;
+        for (std::size_t k = 0; k < K; ++k) r = std::max(r, R[i * K + k]);
+        q = std::max(q, r * sum);
+    }
+    return q;
 }
 
 /// max over rows i of value(i, acc), where acc[k] = sum_j F_ij B_j[k] is row i's gather over B

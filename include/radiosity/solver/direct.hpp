@@ -22,7 +22,9 @@ struct DirectOptions {
 
 /// Direct LU solve (see the file comment). The report gives the relative residual of the
 /// computed B, which is at rounding level for the well-conditioned matrices of radiosity
-/// (I - R F is diagonally dominant by rows: R_i sum_j F_ij < 1).
+/// (I - R F is diagonally dominant by rows: R_i sum_j F_ij < 1), and the bound it gives on the
+/// relative error of B in the max norm, ||r|| / (1 - q) over ||B*|| with q = ||R F||_inf
+/// (detail::bound_from_residual; one more pass over F). The solve is converged unless cancelled.
 class Direct : public detail::SolverBase<Direct, DirectOptions> {
   public:
     using SolverBase::SolverBase;
@@ -57,6 +59,10 @@ class Direct : public detail::SolverBase<Direct, DirectOptions> {
         Report& report = session.report;
         report.iterations = 1;
         report.residual = detail::relative_residual<K>(F, E, R, B);
+        report.error_bound = detail::relative_bound(
+            detail::bound_from_residual(detail::contraction_bound<K>(F, R),
+                                        report.residual * detail::emission_scale(E)),
+            detail::max_abs(B));
         report.converged = !report.cancelled && std::isfinite(report.residual);
         return B;
     }

@@ -23,11 +23,15 @@ namespace radiosity {
 /// Settings of the Gauss-Seidel solver: those of every sweeping solver (session.hpp).
 using GaussSeidelOptions = SweepOptions;
 
-/// Gauss-Seidel iteration (see the file comment). It stops when the largest change of a sweep,
-/// relative to max E, is below the tolerance: the residual left after a sweep is
-/// r_i = R_i sum_{j > i} F_ij (change of B_j), at most that change since R_i < 1 and rows sum to
-/// at most 1. The report gives the true relative residual ||E + R F B - B|| / ||E|| at the
-/// returned B (one more pass over F, rows in parallel). Each row depends on the rows before it;
+/// Gauss-Seidel iteration (see the file comment). A sweep contracts the error in the max norm by
+/// q = ||R F||_inf at least as Jacobi does (row i's update takes each B_j, old or new, with the
+/// weight R_i F_ij, which sum to at most q; with the self term solved for, the weights
+/// R_i F_ij / (1 - R_i F_ii), j != i, sum to at most q as well), so the error after a sweep is
+/// at most q / (1 - q) times its change: the tolerance bounds the relative error of B in the max
+/// norm (detail::StoppingRule). The report gives the true relative residual
+/// ||E + R F B - B|| / ||E|| at the returned B (one more pass over F, rows in parallel), and the
+/// smaller of the two bounds, from the last change and from that residual. q costs one pass over
+/// F. Each row depends on the rows before it;
 /// over dense rows most of each row's gather still runs in parallel (DenseGaussSeidel), with B
 /// bit-identical for any number of threads. Cost: O(non-zeros of F) a sweep.
 class GaussSeidel : public detail::SolverBase<GaussSeidel, GaussSeidelOptions> {
@@ -43,12 +47,13 @@ class GaussSeidel : public detail::SolverBase<GaussSeidel, GaussSeidelOptions> {
         const std::vector<double>& E = session.E;
         const std::vector<double>& R = session.R;
         std::vector<double> B = E;
-        const detail::StoppingRule rule{options_.tolerance, options_.max_iterations};
+        const auto rule = detail::StoppingRule::sweeps(
+            options_.tolerance, detail::contraction_bound<K>(F, R), options_.max_iterations);
         const double scale = detail::emission_scale(E);
         if constexpr (!DenseRowMatrix<Mx>) {
             detail::sweep_until(
                 session, rule, scale, [&] { return sweep<K>(F, E, R, B); },
-                [&] { return std::span<const double>(B); });
+                [&] { return detail::max_abs(B); }, [&] { return std::span<const double>(B); });
         } else {  // the fast path over dense rows: the same sweep with the same update
             const auto update = [](double e, double r, double gathered, double self) {
                 return updated(e, r, gathered, self);
@@ -56,13 +61,20 @@ class GaussSeidel : public detail::SolverBase<GaussSeidel, GaussSeidelOptions> {
             detail::DenseGaussSeidel<K> dense(B);
             detail::sweep_until(
                 session, rule, scale, [&] { return dense.sweep(F, E, R, update); },
+                [&] { return dense.max_abs(); },
                 [&] {  // B is band-major during the sweeps: interleave it for the observer
                     dense.copy_to(B);
                     return std::span<const double>(B);
                 });
             dense.copy_to(B);
         }
-        session.report.residual = detail::relative_residual<K>(F, E, R, B);
+        Report& report = session.report;
+        report.residual = detail::relative_residual<K>(F, E, R, B);
+        const double from_residual = detail::relative_bound(
+            detail::bound_from_residual(rule.contraction, report.residual * scale),
+            detail::max_abs(B));
+        report.error_bound = std::min(report.error_bound, from_residual);
+        report.converged = !report.cancelled && rule.met(report.error_bound);
         return B;
     }
 

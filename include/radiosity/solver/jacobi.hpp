@@ -18,7 +18,11 @@ namespace radiosity {
 using JacobiOptions = SweepOptions;
 
 /// Jacobi iteration (see the file comment). The residual of the equation at B^(m) is exactly
-/// B^(m+1) - B^(m), so the stopping test costs nothing extra. Cost: O(non-zeros of F) a sweep.
+/// the sweep's change B^(m+1) - B^(m), and a sweep contracts the error by q = ||R F||_inf, so
+/// ||B^(m+1) - B*||_inf <= q / (1 - q) ||B^(m+1) - B^(m)||_inf: the tolerance bounds the
+/// relative error of B in the max norm (detail::StoppingRule), at the cost of one pass over F
+/// for q. The report's residual is the last change relative to max E. Cost: O(non-zeros of F) a
+/// sweep.
 class Jacobi : public detail::SolverBase<Jacobi, JacobiOptions> {
   public:
     using SolverBase::SolverBase;
@@ -28,16 +32,20 @@ class Jacobi : public detail::SolverBase<Jacobi, JacobiOptions> {
     /// holds; returns B.
     template <SpectrumType S, AssembledMatrix Mx>
     std::vector<double> iterate(detail::SolveSession<S>& session, const Mx& F) const {
+        constexpr std::size_t K = band_count<S>;
         const std::vector<double>& E = session.E;
         std::vector<double> B = E, next(B.size());
+        const auto rule = detail::StoppingRule::sweeps(options_.tolerance,
+                                                       detail::contraction_bound<K>(F, session.R),
+                                                       options_.max_iterations);
         // The residual at a sweep's input is exactly the change the sweep makes.
+        const auto step = [&] {
+            const double change = sweep<K>(F, E, session.R, B, next);
+            B.swap(next);
+            return change;
+        };
         detail::sweep_until(
-            session, {options_.tolerance, options_.max_iterations}, detail::emission_scale(E),
-            [&] {
-                const double change = sweep<band_count<S>>(F, E, session.R, B, next);
-                B.swap(next);
-                return change;
-            },
+            session, rule, detail::emission_scale(E), step, [&] { return detail::max_abs(B); },
             [&] { return std::span<const double>(B); });
         return B;
     }

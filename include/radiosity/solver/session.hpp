@@ -1,9 +1,10 @@
 #pragma once
 /// @file session.hpp  The opening and closing that every solver shares, written once: the checks
 /// of the system against its matrix, E and R as doubles, the clock, progress and cancellation,
-/// and the report (SolveSession); the rule that stops an iterative solve (StoppingRule,
-/// sweep_until); and the solver class that puts them around a solver's own iteration
-/// (SolverBase). A solver's header then holds only its method.
+/// and the report (SolveSession); the rule that stops an iterative solve and the error bounds it
+/// rests on (StoppingRule, bound_from_residual, bound_from_change, sweep_until); and the solver
+/// class that puts them around a solver's own iteration (SolverBase). A solver's header then holds
+/// only its method.
 
 #include <radiosity/error.hpp>
 #include <radiosity/progress.hpp>
@@ -15,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -25,8 +27,12 @@ namespace radiosity {
 
 /// Settings of a sweeping solver (Jacobi, Gauss-Seidel): when it stops.
 struct SweepOptions {
-    double tolerance = 1e-4;            ///< stop when the relative residual is this small
-    std::size_t max_iterations = 1000;  ///< guard on the number of sweeps
+    /// Stop once the relative error of B, ||B - B*||_inf / ||B*||_inf against the exact
+    /// solution B*, is bounded by this (detail::StoppingRule).
+    double tolerance = 1e-4;
+    /// Guard on the number of sweeps; 0: twice what the tolerance needs, from the contraction
+    /// bound q (detail::StoppingRule::guard_sweeps).
+    std::size_t max_iterations = 0;
 };
 
 namespace detail {
@@ -118,50 +124,130 @@ std::optional<std::size_t> known_rows(const Rows& rows) {
         return std::nullopt;
 }
 
-/// When an iterative solve stops: once its relative residual is within the tolerance (met), or
-/// at its guard on iterations (exhausted). Every iterative solver judges its residual here, so
-/// that a change of the rule (an error bound from the residual and the spectral radius, a guard
-/// from what convergence needs) is made in one place.
+/// A bound on ||B - B*||, the error of an iterate B against the exact solution B* of
+/// B = E + M B (M = R F), from the residual r = E + M B - B: B* - B = (I - M)^-1 r, and
+/// ||(I - M)^-1|| <= 1 / (1 - q) for any q >= ||M|| below 1 (a Neumann series; Golub & Van Loan
+/// 2013, sec. 2.3.4), so ||B - B*|| <= ||r|| / (1 - q). 0 for r = 0; infinity for q >= 1, where
+/// the series gives no bound. Cost: O(1).
+inline double bound_from_residual(double q, double residual) {
+    if (residual == 0.0) return 0.0;
+    return q < 1.0 ? residual / (1.0 - q) : std::numeric_limits<double>::infinity();
+}
+
+/// A bound on ||B_m - B*|| after a step that changed B by `change` and that contracts the error
+/// by q (B_m - B* = G (B_(m-1) - B*) with ||G|| <= q: a Jacobi or Gauss-Seidel sweep), from
+/// ||e_(m-1)|| <= ||e_m|| + ||change|| and ||e_m|| <= q ||e_(m-1)||: q / (1 - q) ||change||.
+/// The same bound holds for shooting with `change` the unshot radiosity dB, since there
+/// B* - B = (I - M)^-1 M dB. 0 for a change of 0 (a fixed point: B = B*); infinity for q >= 1.
+/// Cost: O(1).
+inline double bound_from_change(double q, double change) {
+    if (change == 0.0) return 0.0;
+    return q < 1.0 ? q / (1.0 - q) * change : std::numeric_limits<double>::infinity();
+}
+
+/// The relative bound ||B - B*|| / ||B*|| from an absolute one, error >= ||B - B*||, at an
+/// iterate of norm `size`: error / (size - error), since ||B*|| >= ||B|| - ||B - B*||. 0 for
+/// error 0; infinity where error reaches size. Cost: O(1).
+inline double relative_bound(double error, double size) {
+    if (error == 0.0) return 0.0;
+    const double exact_at_least = size - error;
+    return exact_at_least > 0.0 ? error / exact_at_least : std::numeric_limits<double>::infinity();
+}
+
+/// When an iterative solve stops, and what its tolerance means: a bound on the relative error
+/// ||B - B*|| / ||B*|| of its B against the exact solution B* of the system it solves. The bound
+/// comes from q, a bound on the norm of M = R F in the solver's norm (the max norm:
+/// q = max_i R_i sum_j |F_ij| from the rows of F, detail::contraction_bound), through
+/// bound_from_change (a sweep's change, a shot's unshot radiosity) and relative_bound. The guard
+/// on iterations comes from the same q: twice the sweeps after which an iteration that contracts
+/// by q from B = E is sure to meet the tolerance (sweeps_needed), plus 10, so that it stops only
+/// a solve that does not converge as q promises. Where no bound exists (q >= 1: a matrix whose
+/// R_i sum_j |F_ij| reach 1; or a tolerance of 0) the bound is infinite and the guard 1000
+/// sweeps. Every iterative solver judges its iterate here, so that a change of the rule is made
+/// in one place.
 struct StoppingRule {
-    double tolerance;            ///< the largest relative residual accepted
+    double tolerance;            ///< the largest relative error bound accepted
+    double contraction;          ///< q: a bound on ||M|| in the solver's norm
     std::size_t max_iterations;  ///< the guard: sweeps, or shots
 
-    /// Whether the relative residual meets the tolerance.
-    bool met(double residual) const { return residual <= tolerance; }
+    /// The rule of a sweeping solver: the guard is `cap` if it is not 0, else guard_sweeps().
+    static StoppingRule sweeps(double tolerance, double q, std::size_t cap) {
+        return {tolerance, q, cap > 0 ? cap : guard_sweeps(tolerance, q)};
+    }
+    /// The rule of a shooting solver over n patches: the guard is `cap` if it is not 0, else n
+    /// shots for each sweep of guard_sweeps() (at least 1000): a sweep's worth of shots reduces
+    /// the unshot light about as much as a sweep does.
+    static StoppingRule shots(double tolerance, double q, std::size_t cap, std::size_t n) {
+        if (cap > 0) return {tolerance, q, cap};
+        const std::size_t sweeps = guard_sweeps(tolerance, q), most = std::size_t(1) << 62;
+        const std::size_t shots = n > 0 && sweeps > most / n ? most : sweeps * n;
+        return {tolerance, q, std::max<std::size_t>(1000, shots)};
+    }
+
+    /// The relative error bound at an iterate of norm `size` after a step that changed it by
+    /// `change` (see bound_from_change).
+    double bound(double change, double size) const {
+        return relative_bound(bound_from_change(contraction, change), size);
+    }
+    /// Whether a relative error bound meets the tolerance.
+    bool met(double bound) const { return bound <= tolerance; }
     /// Whether a solve that has made `iterations` sweeps or shots must stop.
     bool exhausted(std::size_t iterations) const { return iterations >= max_iterations; }
-    /// Progress as a fraction: how far the residual has come down from `first` towards the
+    /// Progress as a fraction: how far the bound has come down from `first` towards the
     /// tolerance, on a log scale (so that each digit gained counts alike).
     double fraction(double first, double now) const {
         if (!(now > tolerance) || !(first > tolerance)) return 1.0;
+        if (!std::isfinite(first) || !std::isfinite(now)) return 0.0;
         const double f = std::log(first / now) / std::log(first / tolerance);
         return std::clamp(f, 0.0, 1.0);
     }
+
+    /// The sweeps m after which an iteration that contracts the error by q, started from B = E,
+    /// is sure to meet the tolerance with the bound from its change. From B = E, e_0 = -M B*, so
+    /// ||e_0|| <= q ||B*||, so ||e_m|| <= q^(m+1) ||B*|| and the change of sweep m is
+    /// at most (1 + q) q^m ||B*||; the relative bound is then at most x / (1 - 2 x) with
+    /// x = q^(m+1) (1 + q) / (1 - q), within the tolerance once x <= tol / (1 + 2 tol).
+    /// Infinity where there is no bound (q >= 1 or tol <= 0). Cost: O(1).
+    static double sweeps_needed(double tolerance, double q) {
+        if (!(q < 1.0) || !(tolerance > 0.0)) return std::numeric_limits<double>::infinity();
+        if (q <= 0.0) return 1.0;
+        const double x = tolerance / (1.0 + 2.0 * tolerance);
+        return std::max(1.0, std::ceil(std::log(x * (1.0 - q) / (1.0 + q)) / std::log(q)) - 1.0);
+    }
+    /// The default guard in sweeps: 2 sweeps_needed + 10, or 1000 where that is infinite (no
+    /// bound). Cost: O(1).
+    static std::size_t guard_sweeps(double tolerance, double q) {
+        const double m = sweeps_needed(tolerance, q);
+        if (!std::isfinite(m)) return 1000;
+        return static_cast<std::size_t>(std::min(2.0 * m + 10.0, 1e12));
+    }
 };
 
-/// The loop shared by the sweeping solvers: calls sweep() (which returns the largest change of
-/// B, absolute) until the change relative to `scale` (max E) meets the rule, the rule's guard is
-/// reached or the progress callback cancels; fills iterations, residual (the last relative
-/// change), converged and cancelled. values() gives the current B (interleaved, as to_doubles)
-/// for Progress::radiosity; it is called only when the session is observed.
-template <SpectrumType S, class Sweep, class Values>
+/// The loop shared by the sweeping solvers: calls sweep(), which returns the largest change of
+/// B (absolute, over every band), and size(), ||B||_inf after it, until the rule's bound from
+/// the change meets the tolerance, the rule's guard is reached or the progress callback
+/// cancels; fills iterations, residual (the last change relative to `scale`, max E),
+/// error_bound, converged and cancelled. values() gives the current B (interleaved, as
+/// to_doubles) for Progress::radiosity; it is called only when the session is observed.
+template <SpectrumType S, class Sweep, class Size, class Values>
 void sweep_until(SolveSession<S>& session, const StoppingRule& rule, double scale, Sweep&& sweep,
-                 Values&& values) {
+                 Size&& size, Values&& values) {
     Report& report = session.report;
     double first = -1.0;
     while (!rule.exhausted(report.iterations)) {
-        const double change = sweep() / scale;
+        const double change = sweep();
         ++report.iterations;
-        report.residual = change;
-        if (first < 0.0) first = change;
-        if (rule.met(change)) {
+        report.residual = change / scale;
+        report.error_bound = rule.bound(change, size());
+        if (first < 0.0) first = report.error_bound;
+        if (rule.met(report.error_bound)) {
             report.converged = true;
             return;
         }
         if (!session.proceed(
                 Progress{.phase = "solve",
-                         .fraction = rule.fraction(first, change),
-                         .residual = change,
+                         .fraction = rule.fraction(first, report.error_bound),
+                         .residual = report.residual,
                          .iteration = report.iterations,
                          .radiosity = session.observed() ? values() : std::span<const double>{}}))
             return;

@@ -6,6 +6,7 @@
 #include <radiosity/spectrum.hpp>
 
 #include <cstddef>
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
@@ -42,14 +43,19 @@ struct System {
 };
 
 /// What a solve did: iterations (sweeps, or shots for progressive), the final relative residual
-/// (or relative unshot energy), whether it met its tolerance, whether it was cancelled, and time.
+/// (or relative unshot energy), the bound on the relative error of B that the tolerance is
+/// compared with, whether it met its tolerance, whether it was cancelled, and time.
 struct Report {
     std::string solver;          ///< "jacobi", "gauss-seidel", "progressive", "direct"
     std::size_t iterations = 0;  ///< sweeps, or shots for progressive
     double residual = 0.0;       ///< final relative residual (see each solver)
-    bool converged = false;      ///< residual <= tolerance
-    bool cancelled = false;      ///< stopped by the progress callback
-    double seconds = 0.0;        ///< wall-clock time of the solve
+    /// A bound on the relative error of the returned B against the exact solution B* of the
+    /// system solved, ||B - B*|| / ||B*|| (the max norm; progressive shooting with rows on demand:
+    /// the power norm; see detail::StoppingRule); infinity where none can be given.
+    double error_bound = std::numeric_limits<double>::infinity();
+    bool converged = false;  ///< error_bound <= tolerance (direct: solved)
+    bool cancelled = false;  ///< stopped by the progress callback
+    double seconds = 0.0;    ///< wall-clock time of the solve
 };
 
 /// A solver's result: the radiosity B_i of every patch, and the report.
