@@ -1,7 +1,9 @@
 // radiosity: the command-line program. Solves a scene (an OBJ, RRV or glTF file or a built-in
 // scene) by the radiosity method and writes a picture, a PLY mesh, glTF, a lightmap and CSV
 // dumps. With no arguments it renders the built-in Cornell box into cornell_box.png. Errors: one
-// line on stderr, exit status 1 (2 for a bad command line, 130 after Ctrl-C).
+// line on stderr, exit status 1 (2 for a bad command line, 130 after Ctrl-C). A solver that
+// stopped short of its tolerance (its iteration guard) gives a warning and exit status 3, the
+// outputs still written (cli::not_converged_status).
 //
 // Its jobs live beside it: options.hpp (the command line), scene.hpp (loading, the camera),
 // solve.hpp (options to SolveOptions, the progress bar, Ctrl-C) and outputs.hpp (what it
@@ -59,7 +61,12 @@ int run(const Args& a) {
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     cli::print_summary(solved->result, a.scene.form_factor, seconds, image);
-    return r.cancelled ? 130 : 0;
+    if (r.cancelled) return 130;
+    if (!r.converged) {
+        cli::warn_not_converged(r, a.scene.tolerance);
+        return cli::not_converged_status;
+    }
+    return 0;
 }
 
 }  // namespace

@@ -52,6 +52,10 @@ void add_solver_options(CLI::Option_group& g, SceneArgs& a) {
     g.add_option("--tolerance", a.tolerance, "relative residual at which the solver stops")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
+    g.add_option("--max-iterations", a.max_iterations,
+                 "stop after this many sweeps (shots for progressive) even if not converged; "
+                 "the program then warns and exits with status 3 (default: the solver's guard)")
+        ->check(CLI::PositiveNumber);
 }
 
 void add_picture_options(CLI::Option_group& g, PictureArgs& a) {

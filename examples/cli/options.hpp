@@ -24,6 +24,7 @@ struct SceneArgs {
     int samples = 0;                       ///< ray-cast sample pairs; 0: the method's default
     std::string solver = "gauss-seidel";   ///< jacobi, gauss-seidel, progressive or direct
     double tolerance = 1e-4;               ///< relative residual at which the solver stops
+    std::size_t max_iterations = 0;        ///< the solver's iteration guard; 0: its default
 };
 
 /// The option groups that add_scene_options made, for a program to add its own options to.
@@ -35,7 +36,7 @@ struct SceneGroups {
 
 /// Declares the positional scene on app and the groups "Scene and meshing" (--max-edge,
 /// --max-area, --divide), "Form factors" (--form-factor, --resolution, --samples) and "Solver"
-/// (--solver, --tolerance), all filling a.
+/// (--solver, --tolerance, --max-iterations), all filling a.
 SceneGroups add_scene_options(CLI::App& app, SceneArgs& a);
 
 /// Where the camera stands: empty camera and fov 0 keep the default camera (scene.hpp).

@@ -171,4 +171,12 @@ void print_summary(const radiosity::SolveResult<Colour>& r, const std::string& f
                  report.seconds, seconds, image.empty() ? "" : "; wrote ", image.c_str());
 }
 
+void warn_not_converged(const radiosity::Report& r, double tolerance) {
+    std::fprintf(stderr,
+                 "radiosity: warning: %s stopped after %zu iterations at residual %.2e without "
+                 "reaching the tolerance %.2e; the outputs are written but not converged (exit "
+                 "status %d; raise --max-iterations or --tolerance)\n",
+                 r.solver.c_str(), r.iterations, r.residual, tolerance, not_converged_status);
+}
+
 }  // namespace radiosity::cli

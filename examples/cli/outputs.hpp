@@ -50,4 +50,13 @@ std::string write_outputs(const Solution& s, const std::string& scene, const Out
 void print_summary(const radiosity::SolveResult<Colour>& r, const std::string& form_factor,
                    double seconds, const std::string& image);
 
+/// The exit status of a run whose solver stopped at its iteration guard before reaching its
+/// tolerance (the outputs are written all the same): 3, apart from errors (1), a bad command
+/// line (2) and Ctrl-C (130).
+inline constexpr int not_converged_status = 3;
+
+/// The warning on stderr for a solve that ended without reaching `tolerance`: the solver, its
+/// iterations and residual, and what to do (more iterations, or a looser tolerance).
+void warn_not_converged(const radiosity::Report& r, double tolerance);
+
 }  // namespace radiosity::cli

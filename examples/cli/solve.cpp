@@ -33,6 +33,7 @@ radiosity::SolveOptions solve_options(const SceneArgs& a, const radiosity::Mesh<
     o.subdivision.max_area = a.divide > 0.0 ? a.divide : a.max_area;
     o.subdivision.conforming = !(a.divide > 0.0);
     o.tolerance = a.tolerance;
+    o.max_iterations = a.max_iterations;
     if (a.resolution > 0) o.hemicube.resolution = a.resolution;
     if (a.samples > 0) o.ray_cast.samples = a.samples;
     return o;
