@@ -62,6 +62,10 @@ struct Scene {
     std::vector<Material<S>> materials;             ///< the materials
     std::vector<std::vector<glm::vec2>> face_uvs;   ///< UV per corner of every face, or empty
     std::string source = "scene";                   ///< file or scene name, for messages
+    /// The length unit of positions, in metres (the Cornell box: millimetres, 0.001); files
+    /// other than glTF (metres by its specification) do not say, so 1 unless the user sets it.
+    /// Radiosity does not depend on it (E and B are per unit area); glTF export converts to it.
+    double metres_per_unit = 1.0;
 };
 
 namespace detail {
