@@ -70,14 +70,17 @@ inline EnclosureReport classify_enclosure(const PatchTable& patches) {
                 const Vec3 o = lo + Vec3(fx, fy, fz) * (hi - lo);
                 for (const Vec3& d : directions) {
                     const auto hit = bvh.intersect(o, d, 0.0, far);
-                    if (!hit) ++r.escaped;
-                    else if (glm::dot(patches.normal(hit->patch), d) < 0.0) ++r.front;
-                    else ++r.back;
+                    if (!hit)
+                        ++r.escaped;
+                    else if (glm::dot(patches.normal(hit->patch), d) < 0.0)
+                        ++r.front;
+                    else
+                        ++r.back;
                 }
             }
-    r.kind = r.escaped > 0        ? Enclosure::open
+    r.kind = r.escaped > 0       ? Enclosure::open
              : r.front >= r.back ? Enclosure::room
-                                  : Enclosure::inside_out;
+                                 : Enclosure::inside_out;
     return r;
 }
 
