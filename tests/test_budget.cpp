@@ -63,7 +63,7 @@ TEST_CASE("a 60,000-patch dense run is refused before it allocates its 14.4 GB")
     CHECK(max_rss_kib() < 2L * 1024 * 1024);  // nothing near the matrix's size was touched
 }
 
-TEST_CASE("within the limit the solve runs; the default limit is half the physical memory") {
+TEST_CASE("within the limit the solve runs, and the default limit is half the physical memory") {
     SolveOptions o;
     o.subdivision.max_edge = 0.0;
     o.max_matrix_bytes = 4 * 100 * 100;  // exactly the 100-patch matrix

@@ -41,7 +41,7 @@ TEST_CASE("the cube's faces as listed point into it") {
     }
 }
 
-TEST_CASE("a closed box facing in is a room; facing out, inside out; open, open") {
+TEST_CASE("a closed box facing in is a room, facing out inside out, and open open") {
     const EnclosureReport room = classify(cube());
     CHECK(room.kind == Enclosure::room);
     CHECK(room.escaped == 0);

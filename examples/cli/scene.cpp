@@ -2,6 +2,7 @@
 #include "cli/scene.hpp"
 
 #include <radiosity/error.hpp>
+#include <radiosity/geometry/bvh.hpp>
 #include <radiosity/io/gltf_read.hpp>
 #include <radiosity/io/obj.hpp>
 #include <radiosity/io/rrv.hpp>
@@ -13,6 +14,7 @@
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <utility>
 
 namespace radiosity::cli {
 
@@ -95,16 +97,64 @@ Box bounding_box(const radiosity::Mesh<Colour>& mesh) {
 
 namespace {
 
-/// Inside a closed room: the eye at the middle of its -z side, 1% of the depth inside the near
-/// wall, looking along +z; the far wall (width w, height h at distance d) fills the vertical
-/// field of view 2 atan(max(w, h) / 2d), 5% wider so that its edges show, within 20..120°.
-radiosity::Camera room_camera(const Box& b) {
+/// Inside a closed room, looking horizontally (y is up) along `axis` (0: x, 2: z) in direction
+/// `sign`: the eye at mid-height in the middle of the near wall, 1% of the depth inside it; the
+/// far wall (width w, height h at distance d) fills the vertical field of view
+/// 2 atan(max(w, h) / 2d), 5% wider so that its edges show, within 20..120°.
+radiosity::Camera room_camera(const Box& b, int axis, double sign) {
     const glm::dvec3 size = b.hi - b.lo, c = 0.5 * (b.lo + b.hi);
-    const glm::dvec3 eye(c.x, c.y, b.lo.z + 0.01 * size.z);
-    const double d = b.hi.z - eye.z;
-    const double half = 1.05 * 0.5 * std::max(size.x, size.y);
+    const auto k = static_cast<glm::length_t>(axis);
+    glm::dvec3 eye = c, target = c;
+    eye[k] = sign > 0.0 ? b.lo[k] + 0.01 * size[k] : b.hi[k] - 0.01 * size[k];
+    target[k] = sign > 0.0 ? b.hi[k] : b.lo[k];
+    const double d = std::abs(target[k] - eye[k]);
+    const double half = 1.05 * 0.5 * std::max(size[2 - k], size.y);
     const double fov = std::clamp(2.0 * std::atan(half / d) * 180.0 / M_PI, 20.0, 120.0);
-    return {eye, {c.x, c.y, b.hi.z}, {0.0, 1.0, 0.0}, fov};
+    return {eye, target, {0.0, 1.0, 0.0}, fov};
+}
+
+/// How much of the far wall a room camera sees: of 15 x 15 rays from the eye to points
+/// spread over the far wall's plane within the room, those that get within 2% of it unblocked.
+int far_wall_seen(const radiosity::Bvh& bvh, const Box& b, const radiosity::Camera& cam, int axis) {
+    const auto across = static_cast<glm::length_t>(2 - axis);
+    int seen = 0;
+    for (int i = 0; i < 15; ++i)
+        for (int j = 0; j < 15; ++j) {
+            glm::dvec3 p = cam.target;
+            p[across] = b.lo[across] + (i + 0.5) / 15.0 * (b.hi[across] - b.lo[across]);
+            p.y = b.lo.y + (j + 0.5) / 15.0 * (b.hi.y - b.lo.y);
+            seen += !bvh.intersect(cam.eye, p - cam.eye, 0.0, 0.98);  // the wall itself at 1
+        }
+    return seen;
+}
+
+/// The room camera of the four horizontal views (along +z first, the Cornell box's convention,
+/// then -z, +x, -x) that sees the most of its far wall past what stands in the room, each eye
+/// moved in from the box's side until it is enclosed (classify_enclosure's probe).
+radiosity::Camera room_camera(const radiosity::Mesh<Colour>& mesh, const Box& b) {
+    const radiosity::PatchTable patches = radiosity::make_patch_table(mesh);
+    const radiosity::Bvh bvh(patches);
+    radiosity::Camera best = room_camera(b, 2, 1.0);
+    int best_seen = -1;
+    for (const auto& [axis, sign] : {std::pair{2, 1.0}, {2, -1.0}, {0, 1.0}, {0, -1.0}}) {
+        radiosity::Camera cam = room_camera(b, axis, sign);
+        // A room turned in its box (RRV's room2) leaves the box's walls outside it: step the
+        // eye in towards the middle until surfaces surround it.
+        const auto k = static_cast<glm::length_t>(axis);
+        const glm::dvec3 step = 0.05 * glm::dvec3(k == 0, 0, k == 2) * sign * (b.hi[k] - b.lo[k]);
+        for (int i = 0;
+             i < 9 && !radiosity::probe(bvh, patches, cam.eye, 4.0 * diagonal(b)).enclosed; ++i)
+            cam.eye += step;
+        cam.fov_y_degrees = std::clamp(
+            2.0 *
+                std::atan(1.05 * 0.5 * std::max(b.hi[2 - k] - b.lo[2 - k], b.hi.y - b.lo.y) /
+                          std::abs(cam.target[k] - cam.eye[k])) *
+                180.0 / M_PI,
+            20.0, 120.0);
+        const int seen = far_wall_seen(bvh, b, cam, axis);
+        if (seen > best_seen) best = cam, best_seen = seen;
+    }
+    return best;
 }
 
 }  // namespace
@@ -122,7 +172,7 @@ radiosity::Camera default_camera(const std::string& scene, const radiosity::Mesh
     if (scene == "cornell")
         return {{278.0, 273.0, -800.0}, {278.0, 273.0, 0.0}, {0.0, 1.0, 0.0}, fov};
     const Box b = bounding_box(mesh);
-    if (enclosure == radiosity::Enclosure::room) return room_camera(b);
+    if (enclosure == radiosity::Enclosure::room) return room_camera(mesh, b);
     const glm::dvec3 c = 0.5 * (b.lo + b.hi);
     const double radius = 0.5 * diagonal(b);
     const double distance = radius / std::sin(0.5 * fov * M_PI / 180.0);
