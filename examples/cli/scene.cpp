@@ -136,12 +136,14 @@ radiosity::Camera room_camera(const radiosity::Mesh<Colour>& mesh, const Box& b)
     const radiosity::Bvh bvh(patches);
     radiosity::Camera best = room_camera(b, 2, 1.0);
     int best_seen = -1;
-    for (const auto& [axis, sign] : {std::pair{2, 1.0}, {2, -1.0}, {0, 1.0}, {0, -1.0}}) {
+    using View = std::pair<int, double>;  // axis (0: x, 2: z), direction along it
+    for (const auto& [axis, sign] : {View{2, 1.0}, View{2, -1.0}, View{0, 1.0}, View{0, -1.0}}) {
         radiosity::Camera cam = room_camera(b, axis, sign);
         // A room turned in its box (RRV's room2) leaves the box's walls outside it: step the
         // eye in towards the middle until surfaces surround it.
         const auto k = static_cast<glm::length_t>(axis);
-        const glm::dvec3 step = 0.05 * glm::dvec3(k == 0, 0, k == 2) * sign * (b.hi[k] - b.lo[k]);
+        glm::dvec3 step(0.0);
+        step[k] = 0.05 * sign * (b.hi[k] - b.lo[k]);
         for (int i = 0;
              i < 9 && !radiosity::probe(bvh, patches, cam.eye, 4.0 * diagonal(b)).enclosed; ++i)
             cam.eye += step;
