@@ -58,7 +58,9 @@ TEST_CASE("a closed box facing in is a room, facing out inside out, and open ope
     const EnclosureReport open = classify(cube(3));
     CHECK(open.kind == Enclosure::open);
     CHECK(open.escaped > 0);
-    CHECK(classify(cornell_box<Rgb>()).kind == Enclosure::open);  // open at the front
+    // Open at the front: the points inside its blocks see the blocks' backs all round, but the
+    // walls lie beyond them (furniture, not a room facing out).
+    CHECK(classify(cornell_box<Rgb>()).kind == Enclosure::open);
 }
 
 TEST_CASE("RRV's rooms are closed rooms facing in") {

@@ -72,13 +72,29 @@ inline Probe probe(const Bvh& bvh, const PatchTable& patches, const Vec3& o, dou
     return p;
 }
 
+/// Whether point o, enclosed and seeing mostly backs, lies in the scene's outermost shell (an
+/// inside-out room: beyond the backs it sees there is nothing) rather than inside a solid
+/// object standing in a room or an open box (beyond its backs lie the walls): the rays go on
+/// past their first hit, and the shell is outermost if none of them hits anything more.
+/// Cost: up to 52 rays.
+inline bool outermost_shell(const Bvh& bvh, const Vec3& o, double far) {
+    for (const Vec3& d : detail::probe_directions()) {
+        const auto hit = bvh.intersect(o, d, 0.0, far);
+        if (!hit) continue;
+        if (bvh.intersect(o, d, hit->t + 1e-7 * far, far)) return false;  // past the face hit
+    }
+    return true;
+}
+
 /// Classifies a scene by rays (in the spirit of point-in-polyhedron tests by rays; Haines
 /// 1994): from the 27 points at 1/4, 1/2 and 3/4 of its bounding box along each axis, 26 rays
 /// each to the first surface hit. Points from which some ray escapes lie outside any room (or
-/// in an open one: the Cornell box) and are not counted. If no point is enclosed the scene is
-/// open; otherwise it is a room if the enclosed points' rays hit fronts at least as often as
-/// backs (furniture seen from a point inside it gives back hits, the walls outnumber it), else
-/// inside out. Cost: a BVH over the patches (O(n log n)) and 702 ray queries.
+/// in an open one: the Cornell box) and are not counted. An enclosed point that meets fronts
+/// at least as often as backs is in a room facing in; one that meets mostly backs is inside a
+/// solid object (a block, a teapot: something lies beyond its backs), not counted, or in the
+/// outermost shell of a scene facing out (outermost_shell). A room if any point is in one, else
+/// inside out if any point is in an outermost shell, else open; the counts are those of the
+/// points behind the verdict. Cost: a BVH over the patches (O(n log n)) and 702 to 2,106 rays.
 inline EnclosureReport classify_enclosure(const PatchTable& patches) {
     EnclosureReport r;
     if (patches.size() == 0) return r;
@@ -89,20 +105,27 @@ inline EnclosureReport classify_enclosure(const PatchTable& patches) {
     }
     const Bvh bvh(patches);
     const double far = 4.0 * glm::length(hi - lo) + 1.0;
-    bool any_enclosed = false;
+    EnclosureReport room, out;
     for (double fx : {0.25, 0.5, 0.75})
         for (double fy : {0.25, 0.5, 0.75})
             for (double fz : {0.25, 0.5, 0.75}) {
-                const Probe p = probe(bvh, patches, lo + Vec3(fx, fy, fz) * (hi - lo), far);
+                const Vec3 o = lo + Vec3(fx, fy, fz) * (hi - lo);
+                const Probe p = probe(bvh, patches, o, far);
                 r.escaped += p.escaped;
                 if (!p.enclosed) continue;
-                any_enclosed = true;
-                r.front += p.front;
-                r.back += p.back;
+                EnclosureReport* into = nullptr;
+                if (p.front >= p.back)
+                    into = &room;
+                else if (outermost_shell(bvh, o, far))
+                    into = &out;
+                if (into == nullptr) continue;  // inside furniture
+                into->front += p.front;
+                into->back += p.back;
             }
-    r.kind = !any_enclosed       ? Enclosure::open
-             : r.front >= r.back ? Enclosure::room
-                                 : Enclosure::inside_out;
+    const bool is_room = room.front + room.back > 0, is_out = out.front + out.back > 0;
+    r.front = is_room ? room.front : out.front;
+    r.back = is_room ? room.back : out.back;
+    r.kind = is_room ? Enclosure::room : is_out ? Enclosure::inside_out : Enclosure::open;
     return r;
 }
 
