@@ -350,7 +350,8 @@ TEST_CASE("glTF is written in metres: the Cornell box's millimetres, --unit for 
     check_one_line_error(sq + "'" + out("x.gltf") + "' --unit furlong", "--unit");
 }
 
-TEST_CASE("an inside-out room is refused before the solve, and --flip-faces or --two-sided light it") {
+TEST_CASE(
+    "an inside-out room is refused before the solve, and --flip-faces or --two-sided light it") {
     write_file("box.mtl", "newmtl white\nKd 0.7 0.7 0.7\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n");
     // Only the walls are turned out; the lamp still faces down.
     const std::string outward = write_file("outward.obj", box_obj(true, "box.mtl"));
