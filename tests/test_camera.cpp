@@ -51,6 +51,21 @@ TEST_CASE("a quad filling the view gives every pixel its colour") {
     }
 }
 
+TEST_CASE("back faces are culled by default: a camera outside a closed room sees in") {
+    // A near quad turned away from the camera (a room's near wall seen from outside) in front
+    // of a far one facing it (the far wall seen through it).
+    ShadedMesh m;
+    const glm::vec3 red(1, 0, 0), blue(0, 0, 1);
+    add_quad(m, 1.0, 100.0, {red, red, red, red});
+    std::swap(m.triangles[0][1], m.triangles[0][2]);
+    std::swap(m.triangles[1][1], m.triangles[1][2]);
+    add_quad(m, 0.0, 100.0, {blue, blue, blue, blue});
+    CHECK(RenderOptions{}.cull_back_faces);
+    CHECK(render(m, looking_down_z, {.width = 9, .height = 9}).at(4, 4) == blue);
+    CHECK(render(m, looking_down_z, {.width = 9, .height = 9, .cull_back_faces = false}).at(4, 4) ==
+          red);
+}
+
 TEST_CASE("the z-buffer keeps the nearest surface, whatever the drawing order") {
     ShadedMesh near_first, far_first;
     const glm::vec3 red(1, 0, 0), blue(0, 0, 1);

@@ -2,6 +2,14 @@
 // (Howell C-11), and bad input gives a one-line error and a non-zero exit status.
 #include <doctest/doctest.h>
 
+#define STB_IMAGE_IMPLEMENTATION
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-function"
+#pragma GCC diagnostic ignored "-Wsign-compare"
+#include <stb/stb_image.h>
+#pragma GCC diagnostic pop
+
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -283,4 +291,150 @@ TEST_CASE("--help lists every option once, in the option group of its job, each 
         }
     }
     CHECK(found.size() == options);  // and no option outside the groups above
+}
+
+namespace {
+
+/// A scratch file with the given text.
+std::string write_file(const std::string& name, const std::string& text) {
+    std::ofstream(out(name)) << text;
+    return out(name);
+}
+
+/// A closed box 2 x 2 x 2 as six quads over the cube's corners, each face listed
+/// counter-clockwise about the outward normal when `outward` (as a modelling tool makes a
+/// solid), about the inward one otherwise; a lamp under the ceiling faces down into it.
+std::string box_obj(bool outward, const std::string& mtl) {
+    std::string s = "mtllib " + mtl +
+                    "\nv -1 0 -1\nv -1 0 1\nv 1 0 1\nv 1 0 -1\nv -1 2 -1\nv -1 2 1\nv 1 2 1\nv 1 2 "
+                    "-1\nv -0.3 1.9 -0.3\nv 0.3 1.9 -0.3\nv 0.3 1.9 0.3\nv -0.3 1.9 0.3\n"
+                    "usemtl white\n";
+    const char* inward[] = {"1 2 3 4", "5 8 7 6", "1 4 8 5", "1 5 6 2", "4 3 7 8", "2 6 7 3"};
+    for (const char* f : inward) {
+        std::stringstream in(f);
+        std::vector<std::string> v(4);
+        for (auto& x : v) in >> x;
+        s += outward ? "f " + v[3] + " " + v[2] + " " + v[1] + " " + v[0] + "\n"
+                     : "f " + std::string(f) + "\n";
+    }
+    return s + "usemtl lamp\nf 9 10 11 12\n";
+}
+
+}  // namespace
+
+TEST_CASE("a solver stopped by its iteration guard: a warning, exit status 3, outputs written") {
+    const Run r =
+        run("cornell-empty --max-edge 200 --solver jacobi --max-iterations 2 "
+            "--tolerance 1e-9 --image '" +
+            out("short.png") + "' --dump-patches '" + out("short.csv") + "'");
+    CHECK(r.status == 3);
+    CHECK_MESSAGE(r.err.find("warning: jacobi stopped after 2 iterations") != std::string::npos,
+                  r.err);
+    CHECK(r.err.find("NOT converged") != std::string::npos);
+    CHECK(fs::file_size(out("short.png")) > 0);
+    CHECK(read_csv(out("short.csv"), true).size() > 10);
+    // The same run allowed to converge exits 0 with no warning.
+    const Run ok = run("cornell-empty --max-edge 200 --solver jacobi --tolerance 1e-6 --image '" +
+                       out("long.png") + "'");
+    CHECK_MESSAGE(ok.status == 0, ok.err);
+    CHECK(ok.err.find("warning") == std::string::npos);
+}
+
+TEST_CASE("the summary names every file written") {
+    const Run r = run("cornell-empty --max-edge 200 --image '" + out("s.png") + "' --gltf '" +
+                      out("s.gltf") + "' --ply '" + out("s.ply") + "' --dump-patches '" +
+                      out("s.csv") + "' --rrv-out '" + out("s.xml") + "'");
+    REQUIRE_MESSAGE(r.status == 0, r.err);
+    for (const std::string f : {"s.png", "s.gltf", "s.bin", "s.ply", "s.csv", "s.xml"}) {
+        CAPTURE(f);
+        CHECK(r.err.find(out(f)) != std::string::npos);
+        CHECK(fs::exists(out(f)));
+    }
+}
+
+TEST_CASE("glTF is written in metres: the Cornell box's millimetres, --unit for files") {
+    // The box is 556 mm wide: POSITION's bounds in the glTF span 0.556 m.
+    auto x_extent = [](const std::string& gltf) {
+        std::ifstream in(gltf);
+        std::stringstream s;
+        s << in.rdbuf();
+        const std::string doc = s.str();
+        auto number_after = [&](const std::string& key) {
+            const std::size_t at = doc.find(key);
+            REQUIRE(at != std::string::npos);
+            return std::stod(doc.substr(doc.find('[', at) + 1));
+        };
+        return number_after("\"max\"") - number_after("\"min\"");
+    };
+    REQUIRE(run("cornell-empty --max-edge 200 --gltf '" + out("mm.gltf") + "'").status == 0);
+    CHECK(x_extent(out("mm.gltf")) == doctest::Approx(0.556).epsilon(1e-4));
+    // A file's unit: metres unless --unit says otherwise (the two squares are 1 unit wide).
+    const std::string sq = "'" + data("cli_two_squares.obj") + "' --max-edge 0 --gltf ";
+    REQUIRE(run(sq + "'" + out("m.gltf") + "'").status == 0);
+    CHECK(x_extent(out("m.gltf")) == doctest::Approx(1.0));
+    REQUIRE(run(sq + "'" + out("cm.gltf") + "' --unit cm").status == 0);
+    CHECK(x_extent(out("cm.gltf")) == doctest::Approx(0.01));
+    REQUIRE(run(sq + "'" + out("in.gltf") + "' --unit 0.0254").status == 0);
+    CHECK(x_extent(out("in.gltf")) == doctest::Approx(0.0254));
+    check_one_line_error(sq + "'" + out("x.gltf") + "' --unit furlong", "--unit");
+}
+
+TEST_CASE(
+    "an inside-out room is refused before the solve, and --flip-faces or --two-sided light it") {
+    write_file("box.mtl", "newmtl white\nKd 0.7 0.7 0.7\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n");
+    // Only the walls are turned out; the lamp still faces down.
+    const std::string outward = write_file("outward.obj", box_obj(true, "box.mtl"));
+    const Run r = run("'" + outward + "' --max-edge 0.5 --image '" + out("outward.png") + "'");
+    CHECK(r.status == 1);
+    CHECK(line_count(r.err) == 1);
+    CHECK_MESSAGE(r.err.find("faces point out") != std::string::npos, r.err);
+    CHECK(r.err.find("--flip-faces") != std::string::npos);
+    CHECK(r.err.find("--two-sided") != std::string::npos);
+    CHECK_FALSE(fs::exists(out("outward.png")));
+    // An inward box is lit; the outward one lit once turned round (its lamp then faces up, at
+    // the ceiling 0.1 away) or made two-sided.
+    const std::string inward = write_file("inward.obj", box_obj(false, "box.mtl"));
+    for (const std::string& args :
+         {"'" + inward + "'", "'" + outward + "' --flip-faces", "'" + outward + "' --two-sided"}) {
+        CAPTURE(args);
+        const Run ok = run(args + " --max-edge 0.5 --dump-patches '" + out("box.csv") + "'");
+        REQUIRE_MESSAGE(ok.status == 0, ok.err);
+        double lit = 0.0;
+        for (const auto& p : read_csv(out("box.csv"), true))
+            if (p[11] > 0.5) lit = std::max(lit, p[14]);  // the brightest white wall patch
+        CHECK(lit > 0.1);
+    }
+}
+
+TEST_CASE("a scene with no emitter is refused before the solve, saying what to add") {
+    write_file("dark.mtl", "newmtl grey\nKd 0.5 0.5 0.5\n");
+    const std::string dark =
+        write_file("dark.obj",
+                   "mtllib dark.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nusemtl grey\nf 1 2 3 4\n");
+    check_one_line_error("'" + dark + "' --max-edge 0", "no face emits light");
+    check_one_line_error("'" + dark + "' --max-edge 0", "Ke");
+}
+
+TEST_CASE("RRV's room3 with no options: RRV's meshing (9,680 patches), seen from inside") {
+    const std::string room3 = std::string(RADIOSITY_REFDATA_DIR) + "/../rrv/room3.xml";
+    const auto t0 = std::chrono::steady_clock::now();
+    const Run r = run("'" + room3 + "' --dump-patches '" + out("room3.csv") + "' --image '" +
+                      out("room3.png") + "' --width 64 --height 64");
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    REQUIRE_MESSAGE(r.status == 0, r.err);
+    MESSAGE("room3, no meshing option: " << seconds << " s");
+    CHECK(r.err.find("9680 patches") == 0);
+    CHECK(read_csv(out("room3.csv"), true).size() == 9680);
+    // From inside the closed room every pixel shows a wall, the floor, the ceiling or what
+    // stands in the room; from outside most of the picture would be black background.
+    int w = 0, h = 0, channels = 0;
+    unsigned char* p = stbi_load(out("room3.png").c_str(), &w, &h, &channels, 3);
+    REQUIRE(p);
+    int black = 0;
+    for (int i = 0; i < w * h; ++i)
+        black += p[3 * i] == 0 && p[3 * i + 1] == 0 && p[3 * i + 2] == 0;
+    stbi_image_free(p);
+    CHECK(w == 64);
+    CHECK(black == 0);
 }

@@ -320,3 +320,37 @@ TEST_CASE("RRV scene size: a short file that places a large object many times is
     CHECK(message.find("many.xml:2666: <object> makes the scene larger than 10000000") !=
           std::string::npos);
 }
+
+TEST_CASE("bad RRV input: bytes that a terminal would act on are escaped in the message") {
+    Scratch scratch;
+    // An attribute holding ESC [2J (clear the screen), a bell, DEL and a byte that is not
+    // UTF-8 (0xff), beside a well-formed UTF-8 letter (e acute), which stays as it is.
+    const std::string bad = "1,\x1b[2J\x07\x7f\xff\xc3\xa9";
+    std::string message;
+    try {
+        read_rrv<float>(scratch.write(
+            "bytes.xml", "<scene><head><objectdef name=\"a\"><cuboid emission=\"" + bad +
+                             "\"/></objectdef></head><body><object name=\"a\"/></body></scene>"));
+    } catch (const Error& e) {
+        message = e.what();
+    }
+    CAPTURE(message);
+    REQUIRE(message.find("bytes.xml") != std::string::npos);
+    CHECK(message.find("1,\\x1b[2J\\x07\\x7f\\xff\xc3\xa9") != std::string::npos);
+    for (const char c : message) {
+        const auto b = static_cast<unsigned char>(c);
+        CHECK((b >= 0x20 && b != 0x7f && b != 0xff));  // no raw control byte, DEL or 0xff left
+    }
+}
+
+TEST_CASE("printable: control bytes and broken UTF-8 escaped, text and UTF-8 kept") {
+    CHECK(detail::printable("plain text \\ 42") == "plain text \\ 42");
+    CHECK(detail::printable(std::string("a\0b", 3)) == "a\\x00b");
+    CHECK(detail::printable("tab\there") == "tab\\x09here");
+    CHECK(detail::printable("\xe2\x82\xac") == "\xe2\x82\xac");              // the euro sign
+    CHECK(detail::printable("\xe2\x82") == "\\xe2\\x82");                    // cut short
+    CHECK(detail::printable("\xc0\xaf") == "\\xc0\\xaf");                    // overlong '/'
+    CHECK(detail::printable("\xed\xa0\x80") == "\\xed\\xa0\\x80");           // a surrogate
+    CHECK(detail::printable("\xf4\x90\x80\x80") == "\\xf4\\x90\\x80\\x80");  // above U+10FFFF
+    CHECK(std::string(Error("x\x1b").what()) == "x\\x1b");
+}

@@ -1,7 +1,9 @@
 // radiosity: the command-line program. Solves a scene (an OBJ, RRV or glTF file or a built-in
 // scene) by the radiosity method and writes a picture, a PLY mesh, glTF, a lightmap and CSV
 // dumps. With no arguments it renders the built-in Cornell box into cornell_box.png. Errors: one
-// line on stderr, exit status 1 (2 for a bad command line, 130 after Ctrl-C).
+// line on stderr, exit status 1 (2 for a bad command line, 130 after Ctrl-C). A solver that
+// stopped short of its tolerance (its iteration guard) gives a warning and exit status 3, the
+// outputs still written (cli::not_converged_status).
 //
 // Its jobs live beside it: options.hpp (the command line), scene.hpp (loading, the camera),
 // solve.hpp (options to SolveOptions, the progress bar, Ctrl-C) and outputs.hpp (what it
@@ -13,6 +15,8 @@
 #include "cli/solve.hpp"
 
 #include <chrono>
+#include <cmath>
+#include <string>
 #include <cstdio>
 #include <exception>
 #include <optional>
@@ -31,7 +35,8 @@ struct Args {
 
 int run(const Args& a) {
     const auto t0 = std::chrono::steady_clock::now();
-    const auto scene = cli::load_scene(a.scene.scene);
+    const cli::LoadedScene loaded = cli::load_scene(a.scene);
+    const auto& scene = loaded.mesh;
     cli::check_outputs(a.out);
     const auto& lightmap = a.out.lightmap.path;
     radiosity::SolveOptions o = cli::solve_options(a.scene, scene, !lightmap.empty());
@@ -57,11 +62,16 @@ int run(const Args& a) {
                      r.iterations, r.residual);
         return 130;
     }
-    const std::string image = cli::write_outputs(*solved, a.scene.scene, a.out, a.quiet);
+    const auto files = cli::write_all_outputs(*solved, a.scene.scene, a.out, loaded.info, a.quiet);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    cli::print_summary(solved->result, a.scene.form_factor, seconds, image);
-    return r.cancelled ? 130 : 0;
+    cli::print_summary(solved->result, a.scene.form_factor, seconds, files);
+    if (r.cancelled) return 130;
+    if (!r.converged) {
+        cli::warn_not_converged(r, a.scene.tolerance);
+        return cli::not_converged_status;
+    }
+    return 0;
 }
 
 }  // namespace
@@ -81,6 +91,20 @@ int main(int argc, char** argv) {
     if (const auto status = cli::parse(app, argc, argv)) return *status;
     try {
         return run(a);
+    } catch (const radiosity::MemoryLimitError& e) {
+        std::fprintf(stderr,
+                     "radiosity: error: %zu patches need a dense form-factor matrix of %.3g GB, "
+                     "more than the limit of %.3g GB%s; use fewer patches (a longer --max-edge, "
+                     "a larger --max-area or --divide: the matrix shrinks with the square of the "
+                     "patch count), --solver progressive (rows on demand, no matrix), or raise "
+                     "the limit with --max-memory GB\n",
+                     e.patches, e.bytes_needed / 1e9, double(e.limit_bytes) / 1e9,
+                     e.estimated_seconds >= 0.0
+                         ? (" (and about " + std::to_string(std::lround(e.estimated_seconds)) +
+                            " s of form factors on one core)")
+                               .c_str()
+                         : "");
+        return 1;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "radiosity: error: %s\n", e.what());
         return 1;

@@ -33,6 +33,15 @@ void add_meshing_options(CLI::Option_group& g, SceneArgs& a) {
                  "(RRV's patches, to compare with its results)")
         ->check(CLI::PositiveNumber)
         ->excludes(max_area);
+    g.add_option("--unit", a.unit,
+                 "the scene file's length unit: m, cm, mm, in, ft or metres per unit (default: "
+                 "the scene's own; metres for files, which do not say; glTF is written in metres)");
+    g.add_flag("--flip-faces", a.flip_faces,
+               "turn every face round: for a closed room modelled with its faces pointing out "
+               "(patches shine from their front only); costs nothing");
+    g.add_flag("--two-sided", a.two_sided,
+               "every face also shines and receives on its back: twice the patches, four times "
+               "the matrix's memory and form-factor time");
 }
 
 void add_form_factor_options(CLI::Option_group& g, SceneArgs& a) {
@@ -43,6 +52,10 @@ void add_form_factor_options(CLI::Option_group& g, SceneArgs& a) {
         ->check(CLI::Range(8, 4096));
     g.add_option("--samples", a.samples, "ray-cast sample pairs per patch pair (default 16)")
         ->check(CLI::Range(1, 65536));
+    g.add_option("--max-memory", a.max_memory_gb,
+                 "largest dense form-factor matrix (4 n^2 bytes) to allocate, in GB; larger "
+                 "runs are refused before they start (default: half the physical memory)")
+        ->check(CLI::PositiveNumber);
 }
 
 void add_solver_options(CLI::Option_group& g, SceneArgs& a) {
@@ -53,6 +66,10 @@ void add_solver_options(CLI::Option_group& g, SceneArgs& a) {
                  "bound on the relative error of B, |B - B*| / |B*|, at which the solver stops")
         ->check(CLI::PositiveNumber)
         ->capture_default_str();
+    g.add_option("--max-iterations", a.max_iterations,
+                 "stop after this many sweeps (shots for progressive) even if not converged; "
+                 "the program then warns and exits with status 3 (default: the solver's guard)")
+        ->check(CLI::PositiveNumber);
 }
 
 void add_picture_options(CLI::Option_group& g, PictureArgs& a) {

@@ -16,14 +16,19 @@ namespace radiosity::cli {
 /// What decides the solution: the scene, its meshing, the form-factor method and the solver.
 struct SceneArgs {
     std::string scene = "cornell";  ///< a built-in scene's name or an OBJ, RRV or glTF file
-    double max_edge = -1.0;  ///< negative: from the scene size (unless max_area or divide is set)
-    double max_area = 0.0;   ///< > 0: RRV's `divide` rule, neighbours split alike
-    double divide = 0.0;     ///< > 0: RRV's `divide` rule, each face by itself (T-junctions)
+    double max_edge = -1.0;   ///< negative: from the scene size (unless max_area or divide is set)
+    double max_area = 0.0;    ///< > 0: RRV's `divide` rule, neighbours split alike
+    double divide = 0.0;      ///< > 0: RRV's `divide` rule, each face by itself (T-junctions)
+    std::string unit;         ///< the file's length unit (m, cm, mm, in, ft or metres); "": its own
+    bool flip_faces = false;  ///< turn every face round (a room modelled with faces pointing out)
+    bool two_sided = false;   ///< every face also shines from its back (twice the patches)
     std::string form_factor = "hemicube";  ///< analytic, hemicube or raycast
     int resolution = 0;                    ///< hemicube pixels; 0: the hemicube's default
     int samples = 0;                       ///< ray-cast sample pairs; 0: the method's default
-    std::string solver = "gauss-seidel";   ///< jacobi, gauss-seidel, progressive or direct
-    double tolerance = 1e-4;               ///< relative residual at which the solver stops
+    double max_memory_gb = 0.0;  ///< largest dense matrix in GB; 0: half the physical memory
+    std::string solver = "gauss-seidel";  ///< jacobi, gauss-seidel, progressive or direct
+    double tolerance = 1e-4;              ///< relative residual at which the solver stops
+    std::size_t max_iterations = 0;       ///< the solver's iteration guard; 0: its default
 };
 
 /// The option groups that add_scene_options made, for a program to add its own options to.
@@ -34,8 +39,9 @@ struct SceneGroups {
 };
 
 /// Declares the positional scene on app and the groups "Scene and meshing" (--max-edge,
-/// --max-area, --divide), "Form factors" (--form-factor, --resolution, --samples) and "Solver"
-/// (--solver, --tolerance), all filling a.
+/// --max-area, --divide, --unit, --flip-faces, --two-sided), "Form factors" (--form-factor,
+/// --resolution, --samples, --max-memory) and "Solver"
+/// (--solver, --tolerance, --max-iterations), all filling a.
 SceneGroups add_scene_options(CLI::App& app, SceneArgs& a);
 
 /// Where the camera stands: empty camera and fov 0 keep the default camera (scene.hpp).

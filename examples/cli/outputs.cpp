@@ -6,9 +6,11 @@
 #include <radiosity/io/image.hpp>
 #include <radiosity/io/ply.hpp>
 #include <radiosity/io/rrv.hpp>
+#include <radiosity/io/scenes.hpp>
 #include <radiosity/shading/camera.hpp>
 #include <radiosity/shading/vertex_shading.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -80,11 +82,12 @@ void write_patches(const std::string& path, const radiosity::SolveResult<Colour>
 
 void write_lightmap(const LightmapArgs& a, const std::string& gltf,
                     const radiosity::BakeResult<Colour>& b, const radiosity::ToneMapOptions& tone,
-                    bool quiet) {
+                    bool quiet, double metres_per_unit) {
     radiosity::write_image(b.lightmap.image, a.path, tone);
     if (!gltf.empty())
         radiosity::write_gltf_lightmapped(b.shaded, b.lightmap.image, gltf,
-                                          radiosity::exposure_scale(b.lightmap.image.pixels, tone));
+                                          radiosity::exposure_scale(b.lightmap.image.pixels, tone),
+                                          metres_per_unit);
     using radiosity::TexelState;
     if (!quiet)
         std::fprintf(stderr,
@@ -111,64 +114,129 @@ std::string picture_path(const std::string& scene, const OutputArgs& a) {
 namespace {
 
 /// The dumps: the matrix (CSV, text) and the patches (CSV).
-void write_dumps(const radiosity::SolveResult<Colour>& r, const ExportArgs& e) {
-    if (!e.dump_form_factors.empty()) write_form_factors(e.dump_form_factors, *r.form_factors);
-    if (!e.form_factors_text.empty())
+void write_dumps(const radiosity::SolveResult<Colour>& r, const ExportArgs& e,
+                 std::vector<std::string>& written) {
+    if (!e.dump_form_factors.empty()) {
+        write_form_factors(e.dump_form_factors, *r.form_factors);
+        written.push_back(e.dump_form_factors);
+    }
+    if (!e.form_factors_text.empty()) {
         write_form_factor_text(e.form_factors_text, *r.form_factors, r.patches);
-    if (!e.dump_patches.empty()) write_patches(e.dump_patches, r);
+        written.push_back(e.form_factors_text);
+    }
+    if (!e.dump_patches.empty()) {
+        write_patches(e.dump_patches, r);
+        written.push_back(e.dump_patches);
+    }
 }
 
 /// The PNG (if image is not empty) and the HDR picture of the shaded mesh, through the chosen
 /// camera.
 void write_pictures(const radiosity::ShadedMesh& shaded, const std::string& image,
                     const std::string& scene, const radiosity::Mesh<Colour>& mesh,
-                    const PictureArgs& p, const radiosity::ToneMapOptions& tone) {
+                    const PictureArgs& p, const radiosity::ToneMapOptions& tone,
+                    const SceneInfo& info, std::vector<std::string>& written) {
     if (image.empty() && p.hdr.empty()) return;
     // Back faces culled: a closed room seen from outside shows its inside (a cut-away).
     const auto picture =
-        radiosity::render(shaded, chosen_camera(p.camera, scene, mesh),
+        radiosity::render(shaded, chosen_camera(p.camera, scene, mesh, info.enclosure),
                           {.width = p.width, .height = p.height, .cull_back_faces = true});
-    if (!image.empty()) radiosity::write_png(picture, image, tone);
-    if (!p.hdr.empty()) radiosity::write_hdr(picture, p.hdr);
+    if (!image.empty()) {
+        radiosity::write_png(picture, image, tone);
+        written.push_back(image);
+    }
+    if (!p.hdr.empty()) {
+        radiosity::write_hdr(picture, p.hdr);
+        written.push_back(p.hdr);
+    }
+}
+
+/// A glTF path and, for a .gltf, the .bin written beside it.
+void add_gltf(const std::string& path, std::vector<std::string>& written) {
+    written.push_back(path);
+    if (std::filesystem::path(path).extension() != ".glb")
+        written.push_back(std::filesystem::path(path).replace_extension(".bin").string());
 }
 
 }  // namespace
 
-std::string write_outputs(const Solution& s, const std::string& scene, const OutputArgs& a,
-                          bool quiet) {
+std::vector<std::string> write_all_outputs(const Solution& s, const std::string& scene,
+                                           const OutputArgs& a, const SceneInfo& info, bool quiet) {
     const auto& r = s.result;
     const auto& e = a.exports;
-    write_dumps(r, e);
+    std::vector<std::string> written;
+    write_dumps(r, e, written);
     const std::string image = picture_path(scene, a);
     const radiosity::ShadedMesh shaded = s.baked          ? s.baked->shaded
                                          : a.picture.flat ? radiosity::flat_shading(r.mesh)
                                                           : radiosity::smooth_shading(r.mesh);
     radiosity::ToneMapOptions tone;
     tone.stops = a.picture.exposure;
-    if (s.baked) write_lightmap(a.lightmap, e.gltf, *s.baked, tone, quiet);
-    write_pictures(shaded, image, scene, r.mesh, a.picture, tone);
-    if (!e.rrv_out.empty()) radiosity::write_rrv(r.mesh, e.rrv_out);
-    if (!e.gltf.empty() && !s.baked)
-        radiosity::write_gltf(shaded, e.gltf, radiosity::exposure_scale(shaded.colours, tone));
-    if (!e.ply.empty())
+    if (s.baked) {
+        write_lightmap(a.lightmap, e.gltf, *s.baked, tone, quiet, info.metres_per_unit);
+        written.push_back(a.lightmap.path);
+        if (!e.gltf.empty()) add_gltf(e.gltf, written);
+    }
+    write_pictures(shaded, image, scene, r.mesh, a.picture, tone, info, written);
+    if (!e.rrv_out.empty()) {
+        radiosity::write_rrv(r.mesh, e.rrv_out);
+        written.push_back(e.rrv_out);
+    }
+    if (!e.gltf.empty() && !s.baked) {
+        radiosity::write_gltf(shaded, e.gltf, radiosity::exposure_scale(shaded.colours, tone),
+                              info.metres_per_unit);
+        add_gltf(e.gltf, written);
+    }
+    if (!e.ply.empty()) {
         radiosity::write_ply(
             shaded, e.ply, radiosity::exposure_scale(shaded.colours, tone),
             e.ply_float ? radiosity::PlyColours::linear_float : radiosity::PlyColours::srgb8);
-    return image;
+        written.push_back(e.ply);
+    }
+    return written;
+}
+
+std::string write_outputs(const Solution& s, const std::string& scene, const OutputArgs& a,
+                          bool quiet) {
+    const auto names = radiosity::builtin_scene_names();
+    const bool builtin = std::find(names.begin(), names.end(), scene) != names.end();
+    const SceneInfo info{
+        builtin ? radiosity::builtin_scene<Colour>(scene).metres_per_unit : 1.0,
+        scene == "cornell"
+            ? radiosity::Enclosure::open
+            : radiosity::classify_enclosure(radiosity::make_patch_table(s.result.mesh)).kind};
+    write_all_outputs(s, scene, a, info, quiet);
+    return picture_path(scene, a);
 }
 
 void print_summary(const radiosity::SolveResult<Colour>& r, const std::string& form_factor,
-                   double seconds, const std::string& image) {
+                   double seconds, const std::vector<std::string>& files) {
     const auto& report = r.report;
+    std::string wrote;
+    for (const std::string& f : files) wrote += (wrote.empty() ? "; wrote " : ", ") + f;
     std::fprintf(stderr,
                  "%zu patches; form factors (%s) %.2f s; %s: %zu iterations, residual %.2e, %s "
-                 "in %.2f s; total %.2f s%s%s\n",
+                 "in %.2f s; total %.2f s%s\n",
                  r.patches.size(), form_factor.c_str(), r.form_factor_seconds,
                  report.solver.c_str(), report.iterations, report.residual,
                  report.cancelled   ? "INTERRUPTED"
                  : report.converged ? "converged"
                                     : "NOT converged",
-                 report.seconds, seconds, image.empty() ? "" : "; wrote ", image.c_str());
+                 report.seconds, seconds, wrote.c_str());
+}
+
+void print_summary(const radiosity::SolveResult<Colour>& r, const std::string& form_factor,
+                   double seconds, const std::string& image) {
+    print_summary(r, form_factor, seconds,
+                  image.empty() ? std::vector<std::string>{} : std::vector<std::string>{image});
+}
+
+void warn_not_converged(const radiosity::Report& r, double tolerance) {
+    std::fprintf(stderr,
+                 "radiosity: warning: %s stopped after %zu iterations at residual %.2e without "
+                 "reaching the tolerance %.2e; the outputs are written but not converged (exit "
+                 "status %d; raise --max-iterations or --tolerance)\n",
+                 r.solver.c_str(), r.iterations, r.residual, tolerance, not_converged_status);
 }
 
 }  // namespace radiosity::cli

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cmath>
 #include <csignal>
+#include <filesystem>
 #include <cstdio>
 #include <unistd.h>
 
@@ -26,13 +27,19 @@ radiosity::SolveOptions solve_options(const SceneArgs& a, const radiosity::Mesh<
     radiosity::SolveOptions o;
     o.form_factor = radiosity::parse_form_factor_kind(a.form_factor);
     o.solver = radiosity::parse_solver_kind(a.solver);
-    const bool by_area = a.max_area > 0.0 || a.divide > 0.0 || sized_by_texels;
+    const bool rrv_default = a.max_edge < 0.0 && a.max_area <= 0.0 && a.divide <= 0.0 &&
+                             !sized_by_texels &&
+                             std::filesystem::path(a.scene).extension() == ".xml";
+    const double divide = rrv_default ? rrv_default_divide : a.divide;
+    const bool by_area = a.max_area > 0.0 || divide > 0.0 || sized_by_texels;
     o.subdivision.max_edge = a.max_edge >= 0.0 ? a.max_edge
                              : by_area         ? 0.0
                                                : diagonal(bounding_box(scene)) / 30.0;
-    o.subdivision.max_area = a.divide > 0.0 ? a.divide : a.max_area;
-    o.subdivision.conforming = !(a.divide > 0.0);
+    o.subdivision.max_area = divide > 0.0 ? divide : a.max_area;
+    o.subdivision.conforming = !(divide > 0.0);
+    if (a.max_memory_gb > 0.0) o.max_matrix_bytes = static_cast<std::size_t>(a.max_memory_gb * 1e9);
     o.tolerance = a.tolerance;
+    o.max_iterations = a.max_iterations;
     if (a.resolution > 0) o.hemicube.resolution = a.resolution;
     if (a.samples > 0) o.ray_cast.samples = a.samples;
     return o;

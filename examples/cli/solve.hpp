@@ -16,11 +16,17 @@
 
 namespace radiosity::cli {
 
-/// The library's options for a's scene, meshing, form factors and solver. Without --max-edge
-/// the patches' edges are cut to 1/30 of the scene's bounding-box diagonal, unless the area
-/// rule (--max-area, --divide) or a lightmap's texels (sized_by_texels) size them instead.
+/// The library's options for a's scene, meshing, form factors and solver. With no meshing
+/// option an RRV scene (.xml) is meshed as RRV meshes it (--divide 1: each triangle split 1 -> 4
+/// until none is larger than 1, room3's 9,680 patches), and any other scene's patch edges are
+/// cut to 1/30 of its bounding-box diagonal, unless a lightmap's texels (sized_by_texels) size
+/// them instead. --max-memory sets the dense matrix's limit (SolveOptions::max_matrix_bytes).
 radiosity::SolveOptions solve_options(const SceneArgs& a, const radiosity::Mesh<Colour>& scene,
                                       bool sized_by_texels = false);
+
+/// RRV's own meshing rule, the default for its scenes: split until no patch is larger than
+/// this area (RRV's `divide` default).
+inline constexpr double rrv_default_divide = 1.0;
 
 /// The library's lightmap options for --lightmap-size, --texel-density, --lightmap-gutter and
 /// --texels-per-patch (dilation fills each chart's own gutter, no further).

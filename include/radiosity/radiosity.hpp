@@ -5,6 +5,7 @@
 #include <radiosity/config.hpp>
 #include <radiosity/error.hpp>
 #include <radiosity/form_factor/analytic.hpp>
+#include <radiosity/form_factor/budget.hpp>
 #include <radiosity/form_factor/hemicube.hpp>
 #include <radiosity/form_factor/matrix.hpp>
 #include <radiosity/form_factor/pair_culling.hpp>
@@ -15,6 +16,7 @@
 #include <radiosity/geometry/bvh/build.hpp>
 #include <radiosity/geometry/bvh/tree.hpp>
 #include <radiosity/geometry/bvh/triangle.hpp>
+#include <radiosity/geometry/enclosure.hpp>
 #include <radiosity/geometry/patch_table.hpp>
 #include <radiosity/geometry/polygon.hpp>
 #include <radiosity/geometry/raster.hpp>
@@ -36,6 +38,7 @@
 #include <radiosity/mesh/corner_uv.hpp>
 #include <radiosity/mesh/manifold.hpp>
 #include <radiosity/mesh/mesh.hpp>
+#include <radiosity/mesh/orientation.hpp>
 #include <radiosity/mesh/subdivide.hpp>
 #include <radiosity/mesh/weld.hpp>
 #include <radiosity/progress.hpp>

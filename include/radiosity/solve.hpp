@@ -6,6 +6,7 @@
 
 #include <radiosity/error.hpp>
 #include <radiosity/form_factor/analytic.hpp>
+#include <radiosity/form_factor/budget.hpp>
 #include <radiosity/form_factor/hemicube.hpp>
 #include <radiosity/form_factor/matrix.hpp>
 #include <radiosity/form_factor/ray_cast.hpp>
@@ -44,6 +45,9 @@ struct SolveOptions {
     HemicubeOptions hemicube{};      ///< settings of the hemicube method
     RayCastOptions ray_cast{};       ///< settings of the ray-cast method
     bool keep_form_factors = false;  ///< return the assembled matrix (n^2 floats)
+    /// Largest dense matrix to allocate, in bytes; 0: half the physical memory
+    /// (default_matrix_limit). Above it, solve() throws MemoryLimitError before allocating.
+    std::size_t max_matrix_bytes = 0;
     bool ambient = false;  ///< progressive: add the ambient term to B (useful if stopped early)
     ProgressCallback progress{};  ///< phases "form factors" and "solve"; return false to cancel
 };
@@ -122,6 +126,7 @@ void solve_with(SolveResult<S>& result, const System<S>& system, M& method, cons
     if (o.solver == SolverKind::progressive && !o.keep_form_factors) {
         solution = Progressive(progressive_options(o)).solve(system, method, o.progress);
     } else {
+        check_dense_budget(method, n, o.max_matrix_bytes);
         const auto t0 = std::chrono::steady_clock::now();
         DenseMatrix F = assemble_dense(method, n, o.progress);
         result.form_factor_seconds =
@@ -137,8 +142,9 @@ void solve_with(SolveResult<S>& result, const System<S>& system, M& method, cons
 
 /// Solves the radiosity equation B = E + R F B on a scene (Goral et al. 1984; Cohen & Wallace
 /// 1993): conforming subdivision (its report in the result), form factors by the chosen method,
-/// the chosen solver. Throws Error on bad input and Cancelled if the progress callback stops
-/// the form factors.
+/// the chosen solver. Throws Error on bad input, MemoryLimitError (before allocating) if the
+/// dense matrix would exceed options.max_matrix_bytes, and Cancelled if the progress callback
+/// stops the form factors.
 template <SpectrumType S>
 SolveResult<S> solve(const Mesh<S>& scene, const SolveOptions& options = {}) {
     if (!(options.tolerance > 0.0) || !std::isfinite(options.tolerance))

@@ -14,6 +14,7 @@
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
@@ -103,15 +104,17 @@ inline void add_lightmap_texture(tinygltf::Model& model, GltfBuilder& b,
 
 /// The glTF Model of a shaded mesh, its one buffer filled: vertex colours, or, when a lightmap
 /// PNG is given, the lightmap UVs (TEXCOORD_0, and TEXCOORD_1 where engines look for a
-/// lightmap) and the PNG as the unlit material's base colour texture.
+/// lightmap) and the PNG as the unlit material's base colour texture. Positions are written in
+/// metres, as glTF's specification has them: metres_per_unit times the mesh's coordinates.
 inline tinygltf::Model gltf_model(const ShadedMesh& mesh, double exposure_scale,
-                                  const std::vector<unsigned char>* lightmap_png = nullptr) {
+                                  const std::vector<unsigned char>* lightmap_png = nullptr,
+                                  double metres_per_unit = 1.0) {
     std::vector<float> position, colour, uv;
     std::vector<double> lo(3, std::numeric_limits<float>::max()),
         hi(3, -std::numeric_limits<float>::max());
     for (std::size_t v = 0; v < mesh.positions.size(); ++v)
         for (int k = 0; k < 3; ++k) {
-            const auto p = static_cast<float>(mesh.positions[v][k]);
+            const auto p = static_cast<float>(metres_per_unit * mesh.positions[v][k]);
             position.push_back(p);
             lo[std::size_t(k)] = std::min(lo[std::size_t(k)], double(p));
             hi[std::size_t(k)] = std::max(hi[std::size_t(k)], double(p));
@@ -178,19 +181,28 @@ inline void write_gltf_files(tinygltf::Model model, const std::string& path) {
 
 /// Writes the mesh as glTF 2.0 with linear vertex colours exposure_scale * colour,
 /// clamped to [0, 1] (the same exposure as the PNG gives the same picture in a viewer that
-/// shows unlit vertex colours). Throws Error naming the path on failure.
-inline void write_gltf(const ShadedMesh& mesh, const std::string& path, double exposure_scale) {
-    detail::write_gltf_files(detail::gltf_model(mesh, exposure_scale), path);
+/// shows unlit vertex colours). Positions in metres (glTF's unit): metres_per_unit times the
+/// mesh's (Scene::metres_per_unit; 0.001 for the Cornell box's millimetres). Throws Error
+/// naming the path on failure.
+inline void write_gltf(const ShadedMesh& mesh, const std::string& path, double exposure_scale,
+                       double metres_per_unit = 1.0) {
+    if (!(metres_per_unit > 0.0) || !std::isfinite(metres_per_unit))
+        throw Error("glTF: metres per unit must be a positive number");
+    detail::write_gltf_files(detail::gltf_model(mesh, exposure_scale, nullptr, metres_per_unit),
+                             path);
 }
 
 /// Writes the mesh as glTF 2.0 textured with its lightmap: the lightmap UVs as TEXCOORD_0 and
 /// TEXCOORD_1, and the lightmap, times exposure_scale and sRGB-encoded, as an embedded PNG on an
-/// unlit material, so a viewer shows the baked light. Throws Error if the mesh has no UVs or
-/// the file cannot be written.
+/// unlit material, so a viewer shows the baked light; positions in metres as write_gltf's.
+/// Throws Error if the mesh has no UVs or the file cannot be written.
 inline void write_gltf_lightmapped(const ShadedMesh& mesh, const Image& lightmap,
-                                   const std::string& path, double exposure_scale) {
+                                   const std::string& path, double exposure_scale,
+                                   double metres_per_unit = 1.0) {
+    if (!(metres_per_unit > 0.0) || !std::isfinite(metres_per_unit))
+        throw Error("glTF: metres per unit must be a positive number");
     const std::vector<std::uint8_t> png = png_bytes(lightmap, exposure_scale);
-    detail::write_gltf_files(detail::gltf_model(mesh, 1.0, &png), path);
+    detail::write_gltf_files(detail::gltf_model(mesh, 1.0, &png, metres_per_unit), path);
 }
 
 }  // namespace radiosity

@@ -137,7 +137,9 @@ Scene<S> cornell_box(bool blocks = true) {
                                {{265, 0, 296}, {265, 330, 296}, {423, 330, 247}, {423, 0, 247}}})
             b.face(q, white);  // the published short and tall blocks, faces pointing out
     }
-    return b.take();
+    Scene<S> scene = b.take();
+    scene.metres_per_unit = 0.001;  // published in millimetres
+    return scene;
 }
 
 /// Names of the built-in scenes: "cornell" (the Cornell box) and "cornell-empty" (without its

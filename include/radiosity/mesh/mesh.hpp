@@ -68,6 +68,10 @@ struct Scene {
     /// Faces of zero area that the reader left out on purpose (counted, so that programs can
     /// say so: nothing is lost silently); build_mesh refuses such faces where they remain.
     std::size_t zero_area_faces = 0;
+    /// The length unit of positions, in metres (the Cornell box: millimetres, 0.001); files
+    /// other than glTF (metres by its specification) do not say, so 1 unless the user sets it.
+    /// Radiosity does not depend on it (E and B are per unit area); glTF export converts to it.
+    double metres_per_unit = 1.0;
 };
 
 namespace detail {

@@ -31,10 +31,13 @@ struct Camera {
 
 /// Settings of a rendering.
 struct RenderOptions {
-    int width = 512;               ///< picture width in pixels, 1..16384
-    int height = 512;              ///< picture height in pixels, 1..16384
-    glm::vec3 background{0.0f};    ///< value where nothing is seen
-    bool cull_back_faces = false;  ///< skip triangles seen from behind (see into closed rooms)
+    int width = 512;             ///< picture width in pixels, 1..16384
+    int height = 512;            ///< picture height in pixels, 1..16384
+    glm::vec3 background{0.0f};  ///< value where nothing is seen
+    /// Skip triangles seen from behind, as the radiosity method sees them (a patch has one side):
+    /// a camera outside a closed room sees into it through the near walls. false draws both
+    /// sides (open geometry of unknown winding).
+    bool cull_back_faces = true;
 };
 
 namespace detail {
@@ -64,8 +67,9 @@ inline std::pair<double, double> depth_range(const ShadedMesh& m, const glm::dma
 
 /// Renders the mesh as the camera sees it: every triangle through the shared rasteriser
 /// (near-plane clipping, top-left rule), nearest surface kept per pixel, and the pixel's value
-/// shade(triangle index, perspective-correct barycentric weights). Back faces are drawn unless
-/// options.cull_back_faces. Throws Error for bad options. Cost: O(triangles + covered pixels).
+/// shade(triangle index, perspective-correct barycentric weights). Back faces are skipped
+/// unless options.cull_back_faces is false. Throws Error for bad options.
+/// Cost: O(triangles + covered pixels).
 template <class Shade>
 Image render_with(const ShadedMesh& mesh, const Camera& camera, const RenderOptions& options,
                   Shade&& shade) {
