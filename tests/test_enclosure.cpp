@@ -46,13 +46,13 @@ TEST_CASE("a closed box facing in is a room, facing out inside out, and open ope
     CHECK(room.kind == Enclosure::room);
     CHECK(room.escaped == 0);
     CHECK(room.back == 0);
-    CHECK(room.front == 27 * 26);
+    CHECK(room.front == 27 * detail::probe_count);
     Scene<Rgb> out = cube();
     flip_faces(out);
     const EnclosureReport inside_out = classify(out);
     CHECK(inside_out.kind == Enclosure::inside_out);
     CHECK(inside_out.front == 0);
-    CHECK(inside_out.back == 27 * 26);
+    CHECK(inside_out.back == 27 * detail::probe_count);
     flip_faces(out);  // turned round twice: as it was
     CHECK(classify(out).kind == Enclosure::room);
     const EnclosureReport open = classify(cube(3));
