@@ -173,6 +173,33 @@ void set_face_uvs(M& mesh, typename M::FaceHandle h,
     set_corner_uvs(mesh, h, ordered);
 }
 
+/// Adds make_manifold's faces to an empty mesh: a vertex for every origin o at position(o), then
+/// every face, calling added(f, handle, corners) on each. OpenMesh refusing a face cannot happen
+/// after make_manifold; as a safety net the face is retried on copies of its corners, and if it is
+/// still refused Error(refused(f)) is thrown. Cost: O(corners).
+template <SpectrumType S, class Position, class Added, class Refused>
+void add_manifold_faces(Mesh<S>& mesh, const ManifoldFaces& m, Position&& position, Added&& added,
+                        Refused&& refused) {
+    std::vector<typename Mesh<S>::VertexHandle> vh;
+    vh.reserve(m.origin.size());
+    for (std::uint32_t o : m.origin) {
+        const Vec3& p = position(o);
+        vh.push_back(mesh.add_vertex({p.x, p.y, p.z}));
+    }
+    std::vector<typename Mesh<S>::VertexHandle> corners;
+    for (std::size_t f = 0; f < m.faces.size(); ++f) {
+        corners.clear();
+        for (std::uint32_t v : m.faces[f]) corners.push_back(vh[v]);
+        auto fh = mesh.add_face(corners);
+        if (!fh.is_valid()) {
+            for (auto& c : corners) c = mesh.add_vertex(mesh.point(c));
+            fh = mesh.add_face(corners);
+            if (!fh.is_valid()) throw Error(refused(f));
+        }
+        added(f, fh, corners);
+    }
+}
+
 }  // namespace detail
 
 /// Builds the patch mesh of a scene, checking every input: indices in range, at least three
@@ -199,32 +226,20 @@ Mesh<S> build_mesh(const Scene<S>& scene) {
     detail::validate_uvs(scene);
     // Split what a half-edge mesh cannot hold (edges of three faces, bow-ties), then add.
     const ManifoldFaces m = make_manifold(scene.faces, scene.positions.size());
-    std::vector<typename Mesh<S>::VertexHandle> vh;
-    vh.reserve(m.origin.size());
-    for (std::uint32_t o : m.origin) {
-        const Vec3& p = scene.positions[o];
-        vh.push_back(mesh.add_vertex({p.x, p.y, p.z}));
-    }
-    std::vector<typename Mesh<S>::VertexHandle> corners;
-    for (std::size_t f = 0; f < m.faces.size(); ++f) {
-        corners.clear();
-        for (std::uint32_t v : m.faces[f]) corners.push_back(vh[v]);
-        auto fh = mesh.add_face(corners);
-        if (!fh.is_valid()) {  // cannot happen after make_manifold; kept as a safety net
-            for (auto& c : corners) c = mesh.add_vertex(mesh.point(c));
-            fh = mesh.add_face(corners);
-            if (!fh.is_valid())
-                throw Error(src + ": face " + std::to_string(f) +
-                            " could not be added to the mesh");
-        }
-        if (!scene.face_uvs.empty()) detail::set_face_uvs(mesh, fh, corners, scene.face_uvs[f]);
-        const std::uint32_t mat = scene.face_material[f];
-        auto& d = mesh.data(fh);
-        d.emission = scene.materials[mat].emission;
-        d.reflectance = scene.materials[mat].reflectance;
-        d.material = mat;
-        d.surface = static_cast<std::uint32_t>(f);
-    }
+    detail::add_manifold_faces(
+        mesh, m, [&](std::uint32_t o) -> const Vec3& { return scene.positions[o]; },
+        [&](std::size_t f, auto fh, const auto& corners) {
+            if (!scene.face_uvs.empty()) detail::set_face_uvs(mesh, fh, corners, scene.face_uvs[f]);
+            const std::uint32_t mat = scene.face_material[f];
+            auto& d = mesh.data(fh);
+            d.emission = scene.materials[mat].emission;
+            d.reflectance = scene.materials[mat].reflectance;
+            d.material = mat;
+            d.surface = static_cast<std::uint32_t>(f);
+        },
+        [&](std::size_t f) {
+            return src + ": face " + std::to_string(f) + " could not be added to the mesh";
+        });
     return mesh;
 }
 

@@ -680,27 +680,15 @@ Mesh<S> soup_mesh(const Mesh<S>& in, const PatchSoup& soup) {
         for (std::uint32_t& v : f) v = number[v];
     const ManifoldFaces m = make_manifold(faces, point.size());
     Mesh<S> out;
-    std::vector<typename Mesh<S>::VertexHandle> vh;
-    vh.reserve(m.origin.size());
-    for (std::uint32_t o : m.origin) {
-        const Vec3& x = soup.points[point[o]];
-        vh.push_back(out.add_vertex({x.x, x.y, x.z}));
-    }
-    std::vector<typename Mesh<S>::VertexHandle> c;
-    for (std::size_t f = 0; f < m.faces.size(); ++f) {
-        c.clear();
-        for (std::uint32_t v : m.faces[f]) c.push_back(vh[v]);
-        auto h = out.add_face(c);
-        if (!h.is_valid()) {  // a safety net: cannot happen after make_manifold
-            for (auto& v : c) v = out.add_vertex(out.point(v));
-            h = out.add_face(c);
-            if (!h.is_valid())
-                throw Error("subdivide: could not add a child of face " +
-                            std::to_string(soup.parent[f]));
-        }
-        out.data(h) = in.data(typename Mesh<S>::FaceHandle(static_cast<int>(soup.parent[f])));
-        if (!soup.uvs[f].empty()) set_face_uvs(out, h, c, soup.uvs[f]);
-    }
+    add_manifold_faces(
+        out, m, [&](std::uint32_t o) -> const Vec3& { return soup.points[point[o]]; },
+        [&](std::size_t f, auto h, const auto& c) {
+            out.data(h) = in.data(typename Mesh<S>::FaceHandle(static_cast<int>(soup.parent[f])));
+            if (!soup.uvs[f].empty()) set_face_uvs(out, h, c, soup.uvs[f]);
+        },
+        [&](std::size_t f) {
+            return "subdivide: could not add a child of face " + std::to_string(soup.parent[f]);
+        });
     return out;
 }
 
