@@ -24,6 +24,18 @@ const char* error_name(GLenum e) {
     }
 }
 
+/// The info log of a shader or program object (what the driver says of a failed compile or
+/// link), through the matching pair of getters: glGetShaderiv/glGetShaderInfoLog or
+/// glGetProgramiv/glGetProgramInfoLog.
+template <class GetLength, class GetLog>
+std::string info_log(GLuint object, GetLength get_length, GetLog get_log) {
+    GLint length = 0;
+    get_length(object, GL_INFO_LOG_LENGTH, &length);
+    std::vector<char> log(static_cast<std::size_t>(std::max(length, 1)));
+    get_log(object, length, nullptr, log.data());
+    return log.data();
+}
+
 GLuint shader(GLenum kind, const char* source, const std::string& name) {
     const GLuint s = glCreateShader(kind);
     glShaderSource(s, 1, &source, nullptr);
@@ -31,13 +43,10 @@ GLuint shader(GLenum kind, const char* source, const std::string& name) {
     GLint ok = GL_FALSE;
     glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
     if (ok != GL_TRUE) {
-        GLint length = 0;
-        glGetShaderiv(s, GL_INFO_LOG_LENGTH, &length);
-        std::vector<char> log(static_cast<std::size_t>(std::max(length, 1)));
-        glGetShaderInfoLog(s, length, nullptr, log.data());
+        const std::string log = info_log(s, glGetShaderiv, glGetShaderInfoLog);
         glDeleteShader(s);
         throw Error(name + (kind == GL_VERTEX_SHADER ? " vertex" : " fragment") +
-                    " shader does not compile: " + log.data());
+                    " shader does not compile: " + log);
     }
     return s;
 }
@@ -62,12 +71,9 @@ GLuint program(const char* vertex_source, const char* fragment_source, const std
     GLint ok = GL_FALSE;
     glGetProgramiv(p, GL_LINK_STATUS, &ok);
     if (ok != GL_TRUE) {
-        GLint length = 0;
-        glGetProgramiv(p, GL_INFO_LOG_LENGTH, &length);
-        std::vector<char> log(static_cast<std::size_t>(std::max(length, 1)));
-        glGetProgramInfoLog(p, length, nullptr, log.data());
+        const std::string log = info_log(p, glGetProgramiv, glGetProgramInfoLog);
         glDeleteProgram(p);
-        throw Error(name + " program does not link: " + log.data());
+        throw Error(name + " program does not link: " + log);
     }
     check(("linking the " + name + " program").c_str());
     return p;
