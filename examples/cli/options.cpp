@@ -19,7 +19,8 @@ std::string builtin_names() {
 void add_meshing_options(CLI::Option_group& g, SceneArgs& a) {
     g.add_option("--max-edge", a.max_edge,
                  "subdivide patches to this edge length in scene units (0 keeps the input "
-                 "faces; default: 1/30 of the scene's bounding-box diagonal)")
+                 "faces; default: 1/30 of the scene's bounding-box diagonal, or for an RRV scene "
+                 "RRV's own rule, --divide 1)")
         ->check(CLI::NonNegativeNumber);
     auto* max_area =
         g.add_option("--max-area", a.max_area,
@@ -74,7 +75,8 @@ void add_solver_options(CLI::Option_group& g, SceneArgs& a) {
 
 void add_picture_options(CLI::Option_group& g, PictureArgs& a) {
     g.add_option("--image", a.image,
-                 "write a PNG picture (Cornell box camera, or one that frames the scene)");
+                 "write a PNG picture (the Cornell box's camera; inside a closed room, one looking "
+                 "across it; else one that frames the scene)");
     g.add_option("--hdr", a.hdr, "write a linear Radiance HDR picture (radiance B / pi)");
     add_view_options(g, a);
 }
