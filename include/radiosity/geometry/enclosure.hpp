@@ -98,13 +98,14 @@ inline bool outermost_shell(const Bvh& bvh, const Vec3& o, double far) {
 
 /// Classifies a scene by rays (in the spirit of point-in-polyhedron tests by rays; Haines
 /// 1994): from the 27 points at 1/4, 1/2 and 3/4 of its bounding box along each axis,
-/// probe_count rays each to the first surface hit. Points from which some ray escapes lie outside any room (or
-/// in an open one: the Cornell box) and are not counted. An enclosed point that meets fronts
-/// at least as often as backs is in a room facing in; one that meets mostly backs is inside a
-/// solid object (a block, a teapot: something lies beyond its backs), not counted, or in the
+/// probe_count rays each to the first surface hit. Points from which some ray escapes lie outside
+/// any room (or in an open one: the Cornell box) and are not counted. An enclosed point that meets
+/// fronts at least as often as backs is in a room facing in; one that meets mostly backs is inside
+/// a solid object (a block, a teapot: something lies beyond its backs), not counted, or in the
 /// outermost shell of a scene facing out (outermost_shell). A room if any point is in one, else
 /// inside out if any point is in an outermost shell, else open; the counts are those of the
-/// points behind the verdict. Cost: a BVH over the patches (O(n log n)) and 27 to 81 probe_count rays.
+/// points behind the verdict. Cost: a BVH over the patches (O(n log n)) and 27 to 81 probe_count
+/// rays.
 inline EnclosureReport classify_enclosure(const PatchTable& patches) {
     EnclosureReport r;
     if (patches.size() == 0) return r;
