@@ -51,7 +51,8 @@ void add_form_factor_options(CLI::Option_group& g, SceneArgs& a) {
         ->capture_default_str();
     g.add_option("--resolution", a.resolution, "hemicube resolution in pixels (default 128)")
         ->check(CLI::Range(8, 4096));
-    g.add_option("--samples", a.samples, "ray-cast sample pairs per patch pair (default 16)")
+    g.add_option("--samples", a.samples,
+                 "fewest ray-cast rays per patch pair that may be blocked (default 16)")
         ->check(CLI::Range(1, 65536));
     g.add_option("--max-memory", a.max_memory_gb,
                  "largest dense form-factor matrix (4 n^2 bytes) to allocate, in GB; larger "

@@ -210,6 +210,24 @@ inline double exchange_integral(std::span<const Vec3> a, const Vec3& n_a, std::s
     return sum;
 }
 
+/// The exchange integral A_a F_a->b by one application of Dunavant's degree-5, 7-point rule on
+/// each fan triangle of the part of a in front of b's plane (the coarse level of
+/// exchange_integral, without refinement). For well-separated polygons, where F_dA->b is smooth
+/// over a, it is exact to 3.2e-6 relative for unit squares 3 apart (the ray-cast near-field
+/// boundary is 2.83) and better farther. Cost: 7 contour integrals per fan triangle.
+inline double exchange_by_rule(std::span<const Vec3> a, const Vec3& n_a, std::span<const Vec3> b) {
+    const std::vector<Vec3> front = clip_to_plane(a, b[0], polygon_normal(b));
+    if (front.size() < 3) return 0.0;
+    const detail::PointToPolygon f{n_a, b};
+    double sum = 0.0;
+    for (std::size_t k = 1; k + 1 < front.size(); ++k) {
+        const Vec3 &p = front[0], &q = front[k], &r = front[k + 1];
+        const double area = 0.5 * glm::length(glm::cross(q - p, r - p));
+        if (area > 0.0) sum += detail::triangle_rule(f, p, q, r, area);
+    }
+    return sum;
+}
+
 /// Area-to-area form factors by the analytic method: F_ij = (1/A_i) integral over A_i of
 /// F_dA->A_j (the contour integral above), by adaptive quadrature. Reciprocity is exact by
 /// construction: the integral is taken over the smaller patch of the pair and divided by A_i

@@ -57,6 +57,23 @@ VisibilitySums visibility_sums(const V& visibility, std::span<const Vec3> xs, co
     return sums;
 }
 
+/// Kernel-weighted visible fraction of patch pair (a, b) from n stratified, jittered sample
+/// pairs (k x k with k^2 >= n, jittered_pairs) drawn from rng: one stage, one ray each. No
+/// decision is taken on the first rays, so the estimate is unbiased up to the ratio's O(1/N):
+/// a refinement only where the first rays disagree (below) trusts pairs whose first rays all
+/// agree, and its estimate of a pair partly hidden by a small occluder is then 1 (or 0 behind
+/// a large one), every time. Cost: k^2 rays.
+template <Visibility V>
+double stratified_visible_fraction(const V& visibility, const PatchTable& t, std::size_t a,
+                                   std::size_t b, int n, Rng& rng) {
+    const int k = static_cast<int>(std::ceil(std::sqrt(double(n))));
+    std::vector<Vec3> xs, ys;
+    jittered_pairs(t.polygon(a), t.polygon(b), k, rng, xs, ys);
+    return visibility_sums(visibility, xs, t.normal(a), ys, t.normal(b),
+                           static_cast<std::uint32_t>(a), static_cast<std::uint32_t>(b))
+        .fraction();
+}
+
 /// Kernel-weighted visible fraction of patch pair (a, b) from the sample pairs (xs on a, ys on
 /// b); where their rays disagree (penumbra: the pair is partly hidden), k x k more jittered
 /// pairs with k^2 >= penumbra_samples are drawn from rng and added, so that rays go where the
