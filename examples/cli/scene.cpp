@@ -71,12 +71,13 @@ LoadedScene load_scene(const SceneArgs& a) {
     if (!a.unit.empty()) s.metres_per_unit = parse_unit(a.unit);
     if (a.flip_faces) radiosity::flip_faces(s);
     if (a.two_sided) radiosity::make_two_sided(s);
+    // The faces first (a face of zero area or one that crosses itself is named), then the scene.
+    LoadedScene loaded{radiosity::build_mesh(s), {s.metres_per_unit, radiosity::Enclosure::open}};
     if (!radiosity::has_emitter(s))
         throw radiosity::Error(
             a.scene +
             ": no face emits light (OBJ: Ke in the MTL; glTF: emissiveFactor; RRV: emission), so "
             "every radiosity would be 0 and the picture black; give a light source an emission");
-    LoadedScene loaded{radiosity::build_mesh(s), {s.metres_per_unit, radiosity::Enclosure::open}};
     const auto e = radiosity::classify_enclosure(radiosity::make_patch_table(loaded.mesh));
     if (!a.two_sided) check_orientation(e, a.scene);  // twins face both ways by construction
     loaded.info.enclosure = e.kind == radiosity::Enclosure::open ? radiosity::Enclosure::open
