@@ -15,6 +15,7 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -295,4 +296,58 @@ TEST_CASE("the lit side of a box pushed into a wall converges to the box modelle
             if (name == "wall") CHECK(std::abs(c - b) > 5.0 * std::abs(a - b));
         }
     }
+}
+
+TEST_CASE("random crossing triangles and boxes, some on a grid: the meshing's check always holds") {
+    std::mt19937 rng(12345);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    auto unit = [&] { return glm::normalize(Vec3(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5)); };
+    std::size_t cut_faces = 0, left_out = 0, failed = 0, planar_failed = 0;
+    for (int trial = 0; trial < 120; ++trial) {
+        Scene<float> s = with_materials<float>(1);
+        for (int k = 0; k < 2 + trial % 12; ++k) {
+            const Vec3 c(U(rng), U(rng), U(rng)), a = unit(),
+                                                  b = glm::normalize(glm::cross(a, unit()));
+            const double r = 0.2 + 0.3 * U(rng);
+            if (k % 3 == 0) {  // a box, turned: corners c +- r a +- r b +- r (a x b), outward
+                add_box(s, Vec3(-r), Vec3(r), 0);
+                const Vec3 z = glm::cross(a, b);
+                for (std::size_t v = s.positions.size() - 8; v < s.positions.size(); ++v) {
+                    const Vec3 p = s.positions[v];
+                    s.positions[v] = c + p.x * a + p.y * b + p.z * z;
+                }
+                continue;
+            }
+            const auto base = static_cast<std::uint32_t>(s.positions.size());
+            for (int j = 0; j < 3; ++j) {
+                const double t = 2.0 * std::numbers::pi * j / 3 + 0.5 * U(rng);
+                s.positions.push_back(c + r * (std::cos(t) * a + std::sin(t) * b));
+            }
+            s.faces.push_back({base, base + 1, base + 2});
+            s.face_material.push_back(0);
+        }
+        const bool grid = trial % 4 == 1;  // coplanar, touching and T-shaped cases galore
+        if (grid)
+            for (Vec3& p : s.positions) p = glm::round(p * 4.0) / 4.0;
+        Mesh<float> mesh;
+        try {
+            mesh = build_mesh(s);
+        } catch (const Error&) {
+            continue;  // snapping made a face without area: refused, as it should be
+        }
+        Subdivided<float> sub;
+        REQUIRE_NOTHROW(sub = subdivide_with_report(mesh, {.max_edge = trial % 2 ? 0.0 : 0.15}));
+        const IntersectionReport& r = sub.report.intersections;
+        CHECK(mesh_area(sub.mesh) + r.left_out_area ==
+              doctest::Approx(mesh_area(mesh)).epsilon(1e-9));
+        cut_faces += r.cut_faces;
+        left_out += r.left_out;
+        failed += r.failed_faces;
+        if (!grid) planar_failed += r.failed_faces;
+    }
+    MESSAGE(cut_faces << " faces cut, " << left_out << " pieces left out, " << failed
+                      << " crossed faces kept whole");
+    CHECK(cut_faces > 500);
+    CHECK(left_out > 100);
+    CHECK(planar_failed == 0);  // off the grid every face is planar and in general position
 }

@@ -57,8 +57,13 @@ struct IntersectionReport {
     std::size_t pieces = 0;          ///< pieces the cut faces became, kept and left out
     /// Pieces (or whole faces) left out: inside a closed solid that their object crosses.
     std::size_t left_out = 0;
-    double left_out_area = 0.0;    ///< their total area
-    std::size_t failed_faces = 0;  ///< cut faces that could not be triangulated: kept whole
+    double left_out_area = 0.0;  ///< their total area
+    /// Crossed faces kept whole: not planar (beyond the planarity tolerance: their pieces
+    /// would not lie in one plane), or refused by the triangulation.
+    std::size_t failed_faces = 0;
+    /// Pieces dropped as slivers: under 1e-12 of their face's area, made where segments meet
+    /// within rounding of each other.
+    std::size_t slivers = 0;
 };
 
 /// A mesh with its intersecting faces cut (see the file comment), and what the meshing's check
@@ -315,6 +320,35 @@ inline glm::vec2 uv_at(const std::vector<Vec2>& corner, const Triangulation& t,
     return glm::vec2(out);
 }
 
+/// The cut points on face f's edges: those found there, and the segments' other ends that lie
+/// on an edge up to eps (another face's edge crossing f's plane just at f's edge), which the
+/// triangulation would otherwise find touching the boundary.
+inline std::vector<std::tuple<int, double, std::uint32_t>> boundary_points(const CutInput& in,
+                                                                           std::uint32_t f,
+                                                                           const FaceCuts& cuts) {
+    const auto& c = in.face[f];
+    auto on = cuts.on_edge;
+    for (const auto& sgm : cuts.segments)
+        for (std::uint32_t p : sgm) {
+            if (std::find(c.begin(), c.end(), p) != c.end() ||
+                std::any_of(on.begin(), on.end(),
+                            [&](const auto& e) { return std::get<2>(e) == p; }))
+                continue;
+            const Vec2 x = face_xy(in, f, in.point[p]);
+            for (std::size_t k = 0; k < c.size(); ++k) {
+                const Vec2 a = face_xy(in, f, in.point[c[k]]),
+                           b = face_xy(in, f, in.point[c[(k + 1) % c.size()]]);
+                const double t = glm::dot(x - a, b - a) / glm::dot(b - a, b - a);
+                if (t > 0.0 && t < 1.0 &&
+                    (orient2d(a, b, x) == 0 || glm::distance(a + t * (b - a), x) <= in.eps)) {
+                    on.emplace_back(static_cast<int>(k), t, p);
+                    break;
+                }
+            }
+        }
+    return on;
+}
+
 /// The boundary loop and constraints of cut face f in its frame: its corners with the cut
 /// points on its edges in order, and the segments; points closer than eps are one (the first:
 /// corners come first). id receives the point id of each point of the input.
@@ -328,10 +362,11 @@ inline TriangulationInput cut_outline(const CutInput& in, std::uint32_t f, const
         if (fresh) local.push_back(p);
         return it->second;
     };
+    const auto on_edge = boundary_points(in, f, cuts);
     for (std::size_t k = 0; k < c.size(); ++k) {
         loop.push_back(add(c[k]));
         std::vector<std::pair<double, std::uint32_t>> on;
-        for (const auto& [e, s, p] : cuts.on_edge)
+        for (const auto& [e, s, p] : on_edge)
             if (e == static_cast<int>(k)) on.emplace_back(s, p);
         std::sort(on.begin(), on.end());
         for (const auto& sp : on) loop.push_back(add(sp.second));
@@ -394,24 +429,50 @@ inline void piece_uvs(const CutInput& in, std::uint32_t f, const Triangulation& 
 }
 
 /// Re-triangulates cut face f with its segments as constraints (cut_outline) and returns its
-/// convex pieces; points where segments cross are lifted from the face's plane. Throws Error
-/// where the triangulation refuses the outline.
-inline std::vector<Piece> cut_face(CutInput& in, std::uint32_t f, const FaceCuts& cuts) {
+/// convex pieces. Points where segments cross are lifted from the face's plane, or are the
+/// point they fall within eps of (a segment ending on another one, up to rounding, makes
+/// one); a sliver left with no area to speak of (under 1e-12 of the face's) is dropped and
+/// counted. Throws Error where the triangulation refuses the outline.
+inline std::vector<Piece> cut_face(CutInput& in, std::uint32_t f, const FaceCuts& cuts,
+                                   std::size_t& slivers) {
     std::vector<std::uint32_t> id;
     const TriangulationInput outline = cut_outline(in, f, cuts, id);
     const Triangulation t = triangulate(outline, "cutting face " + std::to_string(f));
-    for (std::size_t k = outline.points.size(); k < t.points.size(); ++k) {
-        id.push_back(static_cast<std::uint32_t>(in.point.size()));
-        in.point.push_back(in.origin[f] + t.points[k].x * in.u[f] + t.points[k].y * in.v[f]);
+    const std::size_t n = outline.points.size();
+    for (std::size_t k = n; k < t.points.size(); ++k) {
+        std::size_t near = n;
+        for (std::size_t j = 0; j < n && near == n; ++j)
+            if (glm::distance(t.points[j], t.points[k]) <= in.eps) near = j;
+        id.push_back(near < n ? id[near] : static_cast<std::uint32_t>(in.point.size()));
+        if (near == n)
+            in.point.push_back(in.origin[f] + t.points[k].x * in.u[f] + t.points[k].y * in.v[f]);
     }
-    const ConvexPartition parts = convex_partition(t);
+    double whole = 0.0;
+    for (const auto& tri : t.triangles)
+        whole += cross2(t.points[tri[1]] - t.points[tri[0]], t.points[tri[2]] - t.points[tri[0]]);
+    ConvexPartition parts = convex_partition(t);
     std::vector<Piece> out;
+    ConvexPartition kept;
     for (const auto& corners : parts.pieces) {
         Piece piece{f, {}, {}};
-        for (std::uint32_t k : corners) piece.corners.push_back(id[k]);
+        std::vector<std::uint32_t> at;
+        for (std::uint32_t k : corners)
+            if (piece.corners.empty() || piece.corners.back() != id[k])
+                piece.corners.push_back(id[k]), at.push_back(k);
+        while (piece.corners.size() > 1 && piece.corners.back() == piece.corners.front())
+            piece.corners.pop_back(), at.pop_back();
+        double area = 0.0;
+        for (std::size_t k = 1; k + 1 < at.size(); ++k)
+            area +=
+                cross2(t.points[at[k]] - t.points[at[0]], t.points[at[k + 1]] - t.points[at[0]]);
+        if (piece.corners.size() < 3 || !(area > 1e-12 * whole)) {
+            ++slivers;
+            continue;
+        }
         out.push_back(std::move(piece));
+        kept.pieces.push_back(std::move(at));
     }
-    if (!in.uv[f].empty()) piece_uvs(in, f, t, parts, id, out);
+    if (!in.uv[f].empty()) piece_uvs(in, f, t, kept, id, out);
     return out;
 }
 
@@ -530,11 +591,13 @@ Mesh<S> pieces_mesh(const Mesh<S>& mesh, const CutInput& in, const std::vector<P
 
 /// Cuts the faces of a mesh where other faces cross them and leaves out the pieces inside
 /// closed solids (see the file comment). Faces that nothing crosses, or that only touch, stay
-/// as they are; if nothing is cut or left out, the result's mesh is empty (use the input).
+/// as they are, and so do faces whose corners lie farther than planarity_tolerance of their
+/// size from a plane (subdivide's warning threshold); if nothing is cut or left out, the
+/// result's mesh is empty (use the input).
 /// Cost: O(n log n) for the candidate pairs, O(k log k) per cut face of k segments, and three
 /// ray queries per face of an object that crosses a closed solid.
 template <SpectrumType S>
-CutMesh<S> cut_intersections(const Mesh<S>& mesh) {
+CutMesh<S> cut_intersections(const Mesh<S>& mesh, double planarity_tolerance = 1e-5) {
     CutMesh<S> out;
     detail::CutInput in = detail::cut_input(mesh);
     for (std::size_t f = 0; f < in.face.size(); ++f) {
@@ -552,8 +615,12 @@ CutMesh<S> cut_intersections(const Mesh<S>& mesh) {
     for (std::uint32_t f = 0; f < in.face.size(); ++f) {
         if (in.face[f].empty()) continue;
         const detail::FaceCuts& cuts = crossings.cuts()[f];
-        if (!cuts.segments.empty()) try {
-                std::vector<detail::Piece> p = detail::cut_face(in, f, cuts);
+        if (!cuts.segments.empty() &&
+            detail::non_planarity(out.input_polygon[f]) > planarity_tolerance)
+            ++out.report.failed_faces;
+        else if (!cuts.segments.empty())
+            try {
+                std::vector<detail::Piece> p = detail::cut_face(in, f, cuts, out.report.slivers);
                 ++out.report.cut_faces;
                 out.report.pieces += p.size();
                 pieces.insert(pieces.end(), p.begin(), p.end());

@@ -105,7 +105,8 @@ struct MeshingReport {
                           detail::short_number(x.left_out_area) + ")");
         if (x.failed_faces > 0)
             out.push_back("meshing: " + std::to_string(x.failed_faces) +
-                          " face(s) crossed by others could not be cut and were kept whole");
+                          " face(s) crossed by others were kept whole (not planar, or the cut "
+                          "could not be triangulated)");
         return out;
     }
 };
@@ -315,23 +316,6 @@ struct PolygonFace {
     Vec3 origin, u, v;
     PolygonPatches cut;
 };
-
-/// How far a face's corners lie from its best-fit plane (Newell's normal through their mean),
-/// per unit of the face's size (its bounding box's diagonal).
-inline double non_planarity(std::span<const Vec3> p) {
-    if (p.size() < 4) return 0.0;
-    const Vec3 n = glm::normalize(local_newell(p));
-    Vec3 mean(0.0), lo(p[0]), hi(p[0]);
-    for (const Vec3& x : p) {
-        mean += x;
-        lo = glm::min(lo, x);
-        hi = glm::max(hi, x);
-    }
-    mean /= static_cast<double>(p.size());
-    double off = 0.0;
-    for (const Vec3& x : p) off = std::max(off, std::abs(glm::dot(x - mean, n)));
-    return off / glm::length(hi - lo);
-}
 
 /// The frame of polygon p in its best-fit plane, u along its longest edge (so that the grid
 /// follows the walls of a room), and its corners there.
@@ -810,7 +794,7 @@ std::size_t subdivided_face_count(const Mesh<S>& mesh, const SubdivisionOptions&
     const bool limits = detail::subdivides(options);
     std::optional<CutMesh<S>> cut;
     if (options.cut_intersections) {
-        cut = cut_intersections(mesh);
+        cut = cut_intersections(mesh, options.planarity_tolerance);
         if (!cut->changed()) cut.reset();
     }
     if (!cut && !limits && detail::only_triangles_and_convex_quads(mesh)) return mesh.n_faces();
@@ -897,7 +881,7 @@ Subdivided<S> subdivide_with_report(const Mesh<S>& mesh, const SubdivisionOption
     const bool limits = detail::subdivides(options);
     std::optional<CutMesh<S>> cut;
     if (options.cut_intersections) {
-        cut = cut_intersections(mesh);
+        cut = cut_intersections(mesh, options.planarity_tolerance);
         out.report.intersections = cut->report;
         if (!cut->changed()) cut.reset();
     }
