@@ -269,9 +269,11 @@ TEST_CASE("--help lists every option once, in the option group of its job, each 
     }
     const std::map<std::string, std::vector<std::string>> groups{
         {"", {"--help", "--quiet", "--partial"}},
-        {"Scene and meshing", {"--max-edge", "--max-area", "--divide"}},
-        {"Form factors", {"--form-factor", "--resolution", "--samples"}},
-        {"Solver", {"--solver", "--tolerance"}},
+        {"Scene and meshing",
+         {"--max-edge", "--max-area", "--divide", "--unit", "--flip-faces", "--no-cut",
+          "--two-sided"}},
+        {"Form factors", {"--form-factor", "--resolution", "--samples", "--max-memory"}},
+        {"Solver", {"--solver", "--tolerance", "--max-iterations"}},
         {"Pictures",
          {"--image", "--hdr", "--width", "--height", "--camera", "--fov", "--flat", "--exposure"}},
         {"Exports",
