@@ -270,7 +270,8 @@ TEST_CASE("--help lists every option once, in the option group of its job, each 
     const std::map<std::string, std::vector<std::string>> groups{
         {"", {"--help", "--quiet", "--partial"}},
         {"Scene and meshing",
-         {"--max-edge", "--max-area", "--divide", "--unit", "--flip-faces", "--two-sided"}},
+         {"--max-edge", "--max-area", "--divide", "--unit", "--flip-faces", "--no-cut",
+          "--two-sided"}},
         {"Form factors", {"--form-factor", "--resolution", "--samples", "--max-memory"}},
         {"Solver", {"--solver", "--tolerance", "--max-iterations"}},
         {"Pictures",
@@ -419,8 +420,9 @@ TEST_CASE("a scene with no emitter is refused before the solve, saying what to a
 TEST_CASE("RRV's room3 with no options: RRV's meshing (9,680 patches), seen from inside") {
     const std::string room3 = std::string(RADIOSITY_REFDATA_DIR) + "/../rrv/room3.xml";
     const auto t0 = std::chrono::steady_clock::now();
-    const Run r = run("'" + room3 + "' --dump-patches '" + out("room3.csv") + "' --image '" +
-                      out("room3.png") + "' --width 64 --height 64");
+    // --no-cut: RRV does not cut its lamps' barrels where they enter their globes.
+    const Run r = run("'" + room3 + "' --no-cut --dump-patches '" + out("room3.csv") +
+                      "' --image '" + out("room3.png") + "' --width 64 --height 64");
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     REQUIRE_MESSAGE(r.status == 0, r.err);
@@ -438,4 +440,49 @@ TEST_CASE("RRV's room3 with no options: RRV's meshing (9,680 patches), seen from
     stbi_image_free(p);
     CHECK(w == 64);
     CHECK(black == 0);
+}
+
+TEST_CASE("a box pushed through a room's wall: the program says what it cut, --no-cut does not") {
+    // The room [-2, 2]^3 faces in, lit from under its ceiling; the box reaches through the
+    // wall x = -2, its footprint there 0.9 x 1.0.
+    std::ofstream mtl(out("cut.mtl"));
+    mtl << "newmtl white\nKd 0.5 0.5 0.5\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n";
+    mtl.close();
+    std::ofstream obj(out("cut.obj"));
+    obj << "mtllib cut.mtl\n";
+    int base = 1;
+    auto box = [&](double x0, double y0, double z0, double x1, double y1, double z1, bool in) {
+        for (int k = 0; k < 8; ++k)
+            obj << "v " << (k & 1 ? x1 : x0) << " " << (k & 2 ? y1 : y0) << " " << (k & 4 ? z1 : z0)
+                << "\n";
+        const int q[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                             {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+        for (const auto& f : q)
+            obj << "f " << base + f[0] << " " << base + f[in ? 3 : 1] << " " << base + f[2] << " "
+                << base + f[in ? 1 : 3] << "\n";
+        base += 8;
+    };
+    obj << "usemtl white\n";
+    box(-2, -2, -2, 2, 2, 2, true);
+    box(-2.45, -1.2, -0.6, -1.55, -0.3, 0.4, false);
+    obj << "usemtl lamp\nv -0.5 1.99 -0.5\nv 0.5 1.99 -0.5\nv 0.5 1.99 0.5\nv -0.5 1.99 0.5\n"
+        << "f " << base << " " << base + 1 << " " << base + 2 << " " << base + 3 << "\n";
+    obj.close();
+    auto area = [](const std::string& csv) {
+        double a = 0.0;
+        for (const auto& row : read_csv(csv, true)) a += row[1];
+        return a;
+    };
+    const Run cut =
+        run("'" + out("cut.obj") + "' --max-edge 0.5 --dump-patches '" + out("cut.csv") + "'");
+    REQUIRE_MESSAGE(cut.status == 0, cut.err);
+    CHECK_MESSAGE(cut.err.find("radiosity: meshing: cut 5 face(s) where other faces cross them; "
+                               "left out 1 piece(s) inside closed objects (area 0.9)\n") == 0,
+                  cut.err);
+    const Run whole = run("'" + out("cut.obj") + "' --max-edge 0.5 --no-cut --dump-patches '" +
+                          out("whole.csv") + "'");
+    REQUIRE_MESSAGE(whole.status == 0, whole.err);
+    CHECK(whole.err.find("meshing") == std::string::npos);
+    // The CSV's areas have 9 significant digits.
+    CHECK(area(out("cut.csv")) + 0.9 == doctest::Approx(area(out("whole.csv"))).epsilon(1e-7));
 }

@@ -126,7 +126,8 @@ TEST_CASE("RRV's rooms load: closed, lit, walls facing in, teapot included") {
 TEST_CASE("RRV's divide rule on room3: no patch over 1.0, RRV's 9,680 patches when split alone") {
     const Mesh<Rgb> mesh = build_mesh(read_rrv<Rgb>(rrv_dir + "/room3.xml"));
     SubdivisionOptions o;
-    o.max_area = 1.0;  // RRV's default divide
+    o.max_area = 1.0;             // RRV's default divide
+    o.cut_intersections = false;  // RRV does not cut its lamps' barrels where they enter globes
     const Mesh<Rgb> sub = subdivide(mesh, o);
     // RRV splits each triangle alone and leaves T-junctions (9,680 patches); splitting the
     // neighbours along a shared edge alike can only add patches.

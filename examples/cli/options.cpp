@@ -40,6 +40,10 @@ void add_meshing_options(CLI::Option_group& g, SceneArgs& a) {
     g.add_flag("--flip-faces", a.flip_faces,
                "turn every face round: for a closed room modelled with its faces pointing out "
                "(patches shine from their front only); costs nothing");
+    g.add_flag("--no-cut", a.no_cut,
+               "do not cut faces where other faces cross them (by default they are cut, so that "
+               "no patch straddles another surface, and the pieces inside closed solids are left "
+               "out)");
     g.add_flag("--two-sided", a.two_sided,
                "every face also shines and receives on its back: twice the patches, four times "
                "the matrix's memory and form-factor time");

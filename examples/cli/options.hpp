@@ -22,6 +22,7 @@ struct SceneArgs {
     std::string unit;         ///< the file's length unit (m, cm, mm, in, ft or metres); "": its own
     bool flip_faces = false;  ///< turn every face round (a room modelled with faces pointing out)
     bool two_sided = false;   ///< every face also shines from its back (twice the patches)
+    bool no_cut = false;      ///< leave faces that cross others uncut (intersect.hpp)
     std::string form_factor = "hemicube";  ///< analytic, hemicube or raycast
     int resolution = 0;                    ///< hemicube pixels; 0: the hemicube's default
     int samples = 0;                       ///< ray-cast sample pairs; 0: the method's default

@@ -37,6 +37,7 @@ radiosity::SolveOptions solve_options(const SceneArgs& a, const radiosity::Mesh<
                                                : diagonal(bounding_box(scene)) / 30.0;
     o.subdivision.max_area = divide > 0.0 ? divide : a.max_area;
     o.subdivision.conforming = !(divide > 0.0);
+    o.subdivision.cut_intersections = !a.no_cut;
     if (a.max_memory_gb > 0.0) o.max_matrix_bytes = static_cast<std::size_t>(a.max_memory_gb * 1e9);
     o.tolerance = a.tolerance;
     o.max_iterations = a.max_iterations;

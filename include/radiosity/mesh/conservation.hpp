@@ -45,6 +45,23 @@ inline Vec3 local_centroid(std::span<const Vec3> p, const Vec3& n) {
     return p[0] + c / static_cast<double>(p.size());
 }
 
+/// How far a face's corners lie from its best-fit plane (Newell's normal through their mean),
+/// per unit of the face's size (its bounding box's diagonal).
+inline double non_planarity(std::span<const Vec3> p) {
+    if (p.size() < 4) return 0.0;
+    const Vec3 n = glm::normalize(local_newell(p));
+    Vec3 mean(0.0), lo(p[0]), hi(p[0]);
+    for (const Vec3& x : p) {
+        mean += x;
+        lo = glm::min(lo, x);
+        hi = glm::max(hi, x);
+    }
+    mean /= static_cast<double>(p.size());
+    double off = 0.0;
+    for (const Vec3& x : p) off = std::max(off, std::abs(glm::dot(x - mean, n)));
+    return off / glm::length(hi - lo);
+}
+
 /// Point-in-polygon by winding number (Sunday 2001's form of Hormann & Agathos 2001), the
 /// crossings decided by exact orientation; a point on the boundary counts as inside. The edges
 /// are bucketed by rows of y so that a query looks at the few edges of its row.

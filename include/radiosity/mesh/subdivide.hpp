@@ -17,6 +17,7 @@
 #include <radiosity/geometry/polygon.hpp>
 #include <radiosity/mesh/conforming.hpp>
 #include <radiosity/mesh/conservation.hpp>
+#include <radiosity/mesh/intersect.hpp>
 #include <radiosity/mesh/manifold.hpp>
 #include <radiosity/mesh/mesh.hpp>
 #include <radiosity/mesh/polygon_patches.hpp>
@@ -26,10 +27,12 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <initializer_list>
 #include <limits>
 #include <map>
 #include <numeric>
+#include <optional>
 #include <span>
 #include <string>
 #include <tuple>
@@ -48,7 +51,19 @@ struct SubdivisionOptions {
     /// Warn about a face whose corners lie farther than this share of its size from its
     /// best-fit plane (Newell's normal through the corners' mean); it is cut as its projection.
     double planarity_tolerance = 1e-5;
+    /// Cut faces where other faces cross them, and leave out the pieces inside closed solids,
+    /// before making patches (intersect.hpp), so that no patch straddles another surface.
+    bool cut_intersections = true;
 };
+
+namespace detail {
+/// A number in 4 significant digits, for messages.
+inline std::string short_number(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g", x);
+    return buf;
+}
+}  // namespace detail
 
 /// What the meshing did besides making patches: the faces it left out on purpose and what it
 /// warns about. The library prints nothing; programs print this (lines()).
@@ -63,6 +78,7 @@ struct MeshingReport {
     double worst_non_planarity = 0.0;       ///< the largest distance from a plane, per unit of size
     std::size_t worst_non_planar_face = 0;  ///< the face with it
     std::size_t conforming_points = 0;      ///< neighbours' points inserted into patch edges
+    IntersectionReport intersections;       ///< faces cut where others cross them (intersect.hpp)
 
     /// One line per thing worth telling a user (none when all went as usual).
     std::vector<std::string> lines() const {
@@ -81,6 +97,16 @@ struct MeshingReport {
                           " the most: a corner " + std::to_string(worst_non_planarity) +
                           " of its size off its best-fit plane); polygons among them are cut "
                           "as their projection onto that plane, quads as bilinear grids");
+        const IntersectionReport& x = intersections;
+        if (x.cut_faces > 0 || x.left_out > 0)
+            out.push_back("meshing: cut " + std::to_string(x.cut_faces) +
+                          " face(s) where other faces cross them; left out " +
+                          std::to_string(x.left_out) + " piece(s) inside closed objects (area " +
+                          detail::short_number(x.left_out_area) + ")");
+        if (x.failed_faces > 0)
+            out.push_back("meshing: " + std::to_string(x.failed_faces) +
+                          " face(s) crossed by others were kept whole (not planar, or the cut "
+                          "could not be triangulated)");
         return out;
     }
 };
@@ -290,23 +316,6 @@ struct PolygonFace {
     Vec3 origin, u, v;
     PolygonPatches cut;
 };
-
-/// How far a face's corners lie from its best-fit plane (Newell's normal through their mean),
-/// per unit of the face's size (its bounding box's diagonal).
-inline double non_planarity(std::span<const Vec3> p) {
-    if (p.size() < 4) return 0.0;
-    const Vec3 n = glm::normalize(local_newell(p));
-    Vec3 mean(0.0), lo(p[0]), hi(p[0]);
-    for (const Vec3& x : p) {
-        mean += x;
-        lo = glm::min(lo, x);
-        hi = glm::max(hi, x);
-    }
-    mean /= static_cast<double>(p.size());
-    double off = 0.0;
-    for (const Vec3& x : p) off = std::max(off, std::abs(glm::dot(x - mean, n)));
-    return off / glm::length(hi - lo);
-}
 
 /// The frame of polygon p in its best-fit plane, u along its longest edge (so that the grid
 /// follows the walls of a room), and its corners there.
@@ -766,13 +775,77 @@ bool only_triangles_and_convex_quads(const Mesh<S>& mesh) {
 
 /// How many patches subdivide(mesh, options) would make, without making them (for choosing
 /// limits that fit a patch budget); where polygons' grid cells alone exceed 4 max_faces, that
-/// count of cells instead. Cost: O(n log n) in the input plus cutting its polygons.
+/// count of cells instead. Intersecting faces are cut first, as subdivide does. Cost:
+/// O(n log n) in the input plus cutting its polygons.
 template <SpectrumType S>
 std::size_t subdivided_face_count(const Mesh<S>& mesh, const SubdivisionOptions& options) {
-    if (!detail::subdivides(options) && detail::only_triangles_and_convex_quads(mesh))
-        return mesh.n_faces();
-    return static_cast<std::size_t>(detail::plan_subdivision(mesh, options).faces);
+    const bool limits = detail::subdivides(options);
+    std::optional<CutMesh<S>> cut;
+    if (options.cut_intersections) {
+        cut = cut_intersections(mesh, options.planarity_tolerance);
+        if (!cut->changed()) cut.reset();
+    }
+    if (!cut && !limits && detail::only_triangles_and_convex_quads(mesh)) return mesh.n_faces();
+    return static_cast<std::size_t>(
+        detail::plan_subdivision(cut ? cut->mesh : mesh, options).faces);
 }
+
+namespace detail {
+/// The meshing's check (conservation.hpp) of a soup cut from mesh faces that are the input
+/// faces themselves: against each welded face, its corners' distance from a plane deciding
+/// whether the patches' own areas must add up too; fills the report's non-planar counts.
+inline void check_input_cover(const PatchSoup& soup, const SubdivisionPlan& plan,
+                              std::size_t input_faces, const SubdivisionOptions& options,
+                              MeshingReport& report) {
+    const Welded& w = plan.welded;
+    std::vector<std::vector<Vec3>> face(input_faces);
+    std::vector<char> flat(input_faces, 0);
+    for (std::size_t f = 0; f < w.face.size(); ++f) {
+        for (std::uint32_t v : w.face[f]) face[w.parent[f]].push_back(w.point[v]);
+        flat[w.parent[f]] = plan.non_planarity[f] <= options.planarity_tolerance;
+        if (!flat[w.parent[f]]) {
+            ++report.non_planar_faces;
+            if (plan.non_planarity[f] > report.worst_non_planarity) {
+                report.worst_non_planarity = plan.non_planarity[f];
+                report.worst_non_planar_face = w.parent[f];
+            }
+        }
+    }
+    check_conservation(soup, face, flat);
+}
+
+/// The meshing's check of a soup cut from the pieces of a cut mesh: against the input faces,
+/// each covered by its pieces' patches and its left-out pieces together.
+template <SpectrumType S>
+void check_cut_cover(const PatchSoup& soup, const CutMesh<S>& cut,
+                     const SubdivisionOptions& options, MeshingReport& report) {
+    PatchSoup all;  // only what the check reads: points, faces, parents
+    all.points = soup.points;
+    all.faces = soup.faces;
+    for (std::size_t p : soup.parent) all.parent.push_back(cut.input_face[p]);
+    for (std::size_t k = 0; k < cut.left_out.size(); ++k) {
+        all.faces.emplace_back();
+        for (const Vec3& x : cut.left_out[k]) {
+            all.faces.back().push_back(static_cast<std::uint32_t>(all.points.size()));
+            all.points.push_back(x);
+        }
+        all.parent.push_back(cut.left_out_face[k]);
+    }
+    std::vector<char> flat(cut.input_polygon.size(), 0);
+    for (std::size_t f = 0; f < flat.size(); ++f) {
+        const double off = non_planarity(cut.input_polygon[f]);
+        flat[f] = off <= options.planarity_tolerance;
+        if (!flat[f]) {
+            ++report.non_planar_faces;
+            if (off > report.worst_non_planarity) {
+                report.worst_non_planarity = off;
+                report.worst_non_planar_face = f;
+            }
+        }
+    }
+    check_conservation(all, cut.input_polygon, flat);
+}
+}  // namespace detail
 
 /// Meshing (see the file comment) with its report: returns a new mesh of patches that cover the
 /// input faces exactly, triangles and convex quads cut into grids whose edges are at most
@@ -781,22 +854,32 @@ std::size_t subdivided_face_count(const Mesh<S>& mesh, const SubdivisionOptions&
 /// into a neighbour, so within two cells); conforming unless options.conforming is false (each
 /// face by itself: T-junctions where neighbours differ), where coincident input vertices
 /// (within 1e-9 of the scene's size) are merged first so that faces meeting along a geometric
-/// edge share the new vertices too. Children keep their parent's data (E, R, material,
-/// surface), orientation and, interpolated, lightmap UVs. With both limits 0 triangles and
-/// convex quads stay as they are, other faces become their convex pieces. Checks that the
-/// patches cover every face (conservation.hpp). Throws Error for a negative or non-finite
-/// option, a face that intersects itself (naming it), when more than max_faces would result,
-/// or if the check fails. Cost: O(output size + n log n).
+/// edge share the new vertices too. Unless options.cut_intersections is false, faces are first
+/// cut where other faces cross them, and the pieces inside closed solids left out
+/// (intersect.hpp). Children keep their parent's data (E, R, material, surface), orientation
+/// and, interpolated, lightmap UVs. With both limits 0 triangles and convex quads stay as they
+/// are, other faces become their convex pieces. Checks that the patches (with the pieces left
+/// out) cover every face (conservation.hpp). Throws Error for a negative or non-finite option,
+/// a face that intersects itself (naming it), when more than max_faces would result, or if the
+/// check fails. Cost: O(output size + n log n).
 template <SpectrumType S>
 Subdivided<S> subdivide_with_report(const Mesh<S>& mesh, const SubdivisionOptions& options = {}) {
     Subdivided<S> out;
     out.report.input_faces = mesh.n_faces();
-    if (!detail::subdivides(options) && detail::only_triangles_and_convex_quads(mesh)) {
+    const bool limits = detail::subdivides(options);
+    std::optional<CutMesh<S>> cut;
+    if (options.cut_intersections) {
+        cut = cut_intersections(mesh, options.planarity_tolerance);
+        out.report.intersections = cut->report;
+        if (!cut->changed()) cut.reset();
+    }
+    const Mesh<S>& in = cut ? cut->mesh : mesh;
+    if (!cut && !limits && detail::only_triangles_and_convex_quads(mesh)) {
         out.mesh = mesh;
         out.report.patches = mesh.n_faces();
         return out;
     }
-    const detail::SubdivisionPlan plan = detail::plan_subdivision(mesh, options);
+    const detail::SubdivisionPlan plan = detail::plan_subdivision(in, options);
     if (plan.too_many || plan.faces > double(options.max_faces))
         throw Error("subdivision: max edge " + std::to_string(options.max_edge) + " and max area " +
                     std::to_string(options.max_area) + " would make " +
@@ -808,26 +891,18 @@ Subdivided<S> subdivide_with_report(const Mesh<S>& mesh, const SubdivisionOption
     // Conforming: along every carrier; else only along the lines inside polygons.
     const auto first = static_cast<std::uint32_t>(options.conforming ? 0 : plan.splits.id.size());
     out.report.conforming_points = detail::make_conforming(soup, w.eps, first);
-    // The check, against each welded face; its corners' distance from a plane decides whether
-    // the patches' own areas must add up too.
-    std::vector<std::vector<Vec3>> face(mesh.n_faces());
-    std::vector<char> flat(mesh.n_faces(), 0);
-    for (std::size_t f = 0; f < w.face.size(); ++f) {
-        for (std::uint32_t v : w.face[f]) face[w.parent[f]].push_back(w.point[v]);
-        flat[w.parent[f]] = plan.non_planarity[f] <= options.planarity_tolerance;
-        if (!flat[w.parent[f]]) {
-            ++out.report.non_planar_faces;
-            if (plan.non_planarity[f] > out.report.worst_non_planarity) {
-                out.report.worst_non_planarity = plan.non_planarity[f];
-                out.report.worst_non_planar_face = w.parent[f];
-            }
-        }
-        out.report.polygons += w.polygon[f] ? 1 : 0;
+    for (std::size_t f = 0; f < w.face.size(); ++f) out.report.polygons += w.polygon[f] ? 1 : 0;
+    if (cut) {
+        detail::check_cut_cover(soup, *cut, options, out.report);
+        out.report.dropped_faces = cut->dropped;
+        for (std::size_t f : w.dropped) out.report.dropped_faces.push_back(cut->input_face[f]);
+        std::sort(out.report.dropped_faces.begin(), out.report.dropped_faces.end());
+    } else {
+        detail::check_input_cover(soup, plan, mesh.n_faces(), options, out.report);
+        out.report.dropped_faces = w.dropped;
     }
-    detail::check_conservation(soup, face, flat);
-    out.report.dropped_faces = w.dropped;
     out.report.patches = soup.faces.size();
-    out.mesh = detail::soup_mesh(mesh, soup);
+    out.mesh = detail::soup_mesh(in, soup);
     return out;
 }
 
