@@ -417,7 +417,8 @@ TEST_CASE("a scene with no emitter is refused before the solve, saying what to a
     check_one_line_error("'" + dark + "' --max-edge 0", "Ke");
 }
 
-TEST_CASE("RRV's room3 with no options: RRV's meshing (9,680 patches), seen from inside") {
+TEST_CASE(
+    "RRV's room3 with no meshing option: RRV's meshing (9,680 patches uncut), seen from inside") {
     const std::string room3 = std::string(RADIOSITY_REFDATA_DIR) + "/../rrv/room3.xml";
     const auto t0 = std::chrono::steady_clock::now();
     // --no-cut: RRV does not cut its lamps' barrels where they enter their globes.
