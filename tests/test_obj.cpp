@@ -76,7 +76,7 @@ TEST_CASE("bad OBJ input: one line, naming the file and what is wrong") {
         // Found by fuzzing: a 7-gon with two corners at one point, which subdivision once took
         // to OpenMesh's add_face and an abort; the triangulation refuses it by name.
         {data("fuzz_subdivide_abort.obj"),
-         ":17: face 0: vertex 3 lies on boundary edge 1 (the polygon touches itself)"},
+         ":18: face 0: vertex 3 lies on boundary edge 1 (the polygon touches itself)"},
         {scratch.dir.string() + "/missing.obj", "no such file"},
         {scratch.write("no_mtl.obj", "mtllib nowhere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"),
          "nowhere.mtl"},
