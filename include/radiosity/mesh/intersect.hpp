@@ -564,26 +564,16 @@ Mesh<S> pieces_mesh(const Mesh<S>& mesh, const CutInput& in, const std::vector<P
     }
     const ManifoldFaces m = make_manifold(faces, point.size());
     Mesh<S> out;
-    std::vector<typename Mesh<S>::VertexHandle> vh;
-    for (std::uint32_t o : m.origin) {
-        const Vec3& x = in.point[point[o]];
-        vh.push_back(out.add_vertex({x.x, x.y, x.z}));
-    }
-    std::vector<typename Mesh<S>::VertexHandle> c;
-    for (std::size_t f = 0; f < m.faces.size(); ++f) {
-        c.clear();
-        for (std::uint32_t v : m.faces[f]) c.push_back(vh[v]);
-        auto h = out.add_face(c);
-        if (!h.is_valid()) {  // a safety net: cannot happen after make_manifold
-            for (auto& v : c) v = out.add_vertex(out.point(v));
-            h = out.add_face(c);
-            if (!h.is_valid())
-                throw Error("cutting intersections: could not add a piece of face " +
-                            std::to_string(kept[f].face));
-        }
-        out.data(h) = mesh.data(typename Mesh<S>::FaceHandle(static_cast<int>(kept[f].face)));
-        if (!kept[f].uv.empty()) set_face_uvs(out, h, c, kept[f].uv);
-    }
+    add_manifold_faces(
+        out, m, [&](std::uint32_t o) -> const Vec3& { return in.point[point[o]]; },
+        [&](std::size_t f, auto h, const auto& c) {
+            out.data(h) = mesh.data(typename Mesh<S>::FaceHandle(static_cast<int>(kept[f].face)));
+            if (!kept[f].uv.empty()) set_face_uvs(out, h, c, kept[f].uv);
+        },
+        [&](std::size_t f) {
+            return "cutting intersections: could not add a piece of face " +
+                   std::to_string(kept[f].face);
+        });
     return out;
 }
 
