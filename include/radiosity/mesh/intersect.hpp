@@ -480,25 +480,13 @@ inline std::vector<Piece> cut_face(CutInput& in, std::uint32_t f, const FaceCuts
 /// else its constrained Delaunay triangulation.
 inline void polygon_triangles(std::span<const Vec3> p, const Vec3& n,
                               std::vector<std::array<Vec3, 3>>& out) {
-    bool convex = true;
-    for (std::size_t k = 0; k < p.size() && convex; ++k)
-        convex = glm::dot(glm::cross(p[k] - p[(k + p.size() - 1) % p.size()],
-                                     p[(k + 1) % p.size()] - p[k]),
-                          n) >= 0.0;
-    if (convex) {
+    if (turns_left_about(p, n)) {
         for (std::size_t k = 1; k + 1 < p.size(); ++k) out.push_back({p[0], p[k], p[k + 1]});
         return;
     }
     Vec3 u, v;
-    orthonormal_basis(n, u, v);
-    TriangulationInput in;
-    in.exact_delaunay = false;
-    in.loops.emplace_back();
-    for (const Vec3& x : p) {
-        in.loops[0].push_back(static_cast<std::uint32_t>(in.points.size()));
-        in.points.emplace_back(glm::dot(x - p[0], u), glm::dot(x - p[0], v));
-    }
-    for (const auto& t : triangulate(in).triangles) out.push_back({p[t[0]], p[t[1]], p[t[2]]});
+    for (const auto& t : triangulate(in_plane(p, n, u, v)).triangles)
+        out.push_back({p[t[0]], p[t[1]], p[t[2]]});
 }
 
 /// Which pieces lie inside a closed solid (solid.hpp) that their object crosses: each piece's

@@ -28,18 +28,19 @@
 
 namespace radiosity::detail {
 
-/// A point strictly inside polygon p (corners counter-clockwise about n): its centroid when it
-/// is convex, else the centroid of the largest triangle of its constrained Delaunay
-/// triangulation (a concave polygon's centroid may lie in its notch). Cost: O(n), O(n log n)
-/// for a concave one.
-inline Vec3 interior_point(std::span<const Vec3> p, const Vec3& n) {
-    bool convex = true;
-    for (std::size_t k = 0; k < p.size() && convex; ++k) {
+/// Whether polygon p (corners counter-clockwise about n) turns left, or runs straight, at every
+/// corner: convex, so that its fan or its centroid may be taken directly. Cost: O(n).
+inline bool turns_left_about(std::span<const Vec3> p, const Vec3& n) {
+    for (std::size_t k = 0; k < p.size(); ++k) {
         const Vec3 a = p[k] - p[(k + p.size() - 1) % p.size()], b = p[(k + 1) % p.size()] - p[k];
-        convex = glm::dot(glm::cross(a, b), n) >= 0.0;
+        if (glm::dot(glm::cross(a, b), n) < 0.0) return false;
     }
-    if (convex) return local_centroid(p, n);
-    Vec3 u, v;
+    return true;
+}
+
+/// The triangulation input of polygon p seen in its plane (normal n): its corners, in order, as
+/// coordinates along the orthonormal u, v (which it sets) from p[0]. Cost: O(n).
+inline TriangulationInput in_plane(std::span<const Vec3> p, const Vec3& n, Vec3& u, Vec3& v) {
     orthonormal_basis(n, u, v);
     TriangulationInput in;
     in.exact_delaunay = false;
@@ -48,7 +49,17 @@ inline Vec3 interior_point(std::span<const Vec3> p, const Vec3& n) {
         in.loops[0].push_back(static_cast<std::uint32_t>(in.points.size()));
         in.points.emplace_back(glm::dot(x - p[0], u), glm::dot(x - p[0], v));
     }
-    const Triangulation t = triangulate(in);
+    return in;
+}
+
+/// A point strictly inside polygon p (corners counter-clockwise about n): its centroid when it
+/// is convex, else the centroid of the largest triangle of its constrained Delaunay
+/// triangulation (a concave polygon's centroid may lie in its notch). Cost: O(n), O(n log n)
+/// for a concave one.
+inline Vec3 interior_point(std::span<const Vec3> p, const Vec3& n) {
+    if (turns_left_about(p, n)) return local_centroid(p, n);
+    Vec3 u, v;
+    const Triangulation t = triangulate(in_plane(p, n, u, v));
     double best = -1.0;
     Vec3 out = local_centroid(p, n);
     for (const auto& tri : t.triangles) {
