@@ -22,6 +22,12 @@
 #include <radiosity/geometry/raster.hpp>
 #include <radiosity/geometry/sampling.hpp>
 #include <radiosity/geometry/vec.hpp>
+#include <radiosity/hierarchy/gather.hpp>
+#include <radiosity/hierarchy/hierarchical.hpp>
+#include <radiosity/hierarchy/leaves.hpp>
+#include <radiosity/hierarchy/links.hpp>
+#include <radiosity/hierarchy/nodes.hpp>
+#include <radiosity/hierarchy/refine.hpp>
 #include <radiosity/io/gltf.hpp>
 #include <radiosity/io/gltf_load.hpp>
 #include <radiosity/io/gltf_read.hpp>

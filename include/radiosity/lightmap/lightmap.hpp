@@ -90,9 +90,6 @@ double texel_patch_edge(const Mesh<S>& mesh, double edge, std::size_t max_patche
     return edge;
 }
 
-inline double seconds_since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 }  // namespace detail
 
 /// Bakes a scene's radiosity into a lightmap (see the file comment). The patches are cut so

@@ -1,0 +1,284 @@
+#pragma once
+/// @file links.hpp  Links of hierarchical radiosity and what a link carries: the transfer
+/// coefficient between two nodes (form factor for elements, Hanrahan, Salzman & Aupperle 1991;
+/// isotropic clusters, Sillion 1995) and its visibility from jittered rays through the scene's
+/// BVH. The receiver gathers B_source * coefficient * visibility as irradiance.
+
+#include <radiosity/concepts.hpp>
+#include <radiosity/form_factor/analytic.hpp>
+#include <radiosity/geometry/sampling.hpp>
+#include <radiosity/hierarchy/nodes.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <vector>
+
+namespace radiosity {
+
+/// A link: receiver r gathers H_r += coefficient * visibility * B_s from source s. 16 bytes.
+/// The coefficient is the unoccluded transfer (the form factor F_rs for two elements) and the
+/// visibility the fraction of rays between them that nothing blocks, kept apart so that the
+/// refinement oracle can judge a shadowed link by what it would carry unshadowed.
+struct Link {
+    NodeId receiver;    ///< r
+    NodeId source;      ///< s
+    float coefficient;  ///< T_rs, unoccluded
+    float visibility;   ///< V_rs in [0, 1]
+};
+static_assert(sizeof(Link) == 16);
+
+/// A link's transfer coefficient and how far it can be trusted.
+struct Transfer {
+    double coefficient = 0.0;  ///< T_rs, unoccluded irradiance at r per unit B_s
+    /// An upper bound on T_rs where the estimate is unreliable (a plane cuts the other node's
+    /// bounding sphere, or the two spheres overlap); equal to coefficient otherwise.
+    double bound = 0.0;
+    bool unreliable = false;  ///< the estimate cannot be trusted: refine if it might matter
+    /// The bound where the estimate is unreliable, 0 otherwise.
+    double bound_if_unreliable() const { return unreliable ? bound : 0.0; }
+};
+
+namespace detail {
+
+/// Signed distance of point x from the plane of element n.
+inline double plane_distance(const Hierarchy& h, NodeId n, const Vec3& x) {
+    return glm::dot(x - h.centre[n], h.normal[n]);
+}
+
+/// Settings of the exchange integral for elements close together (within twice their reach):
+/// there the kernel varies fast over both, and touching or crossing elements (a barrel's side
+/// against the ceiling it meets) would be badly served by a fixed rule.
+inline constexpr AnalyticOptions near_exchange{.tolerance = 1e-2, .max_depth = 3};
+
+/// Element to element: the form factor F_rs from the exchange integral A_r F_rs of Lambert's
+/// contour integral (analytic.hpp) at a cost that follows the distance d against the reach
+/// radius_r + radius_s: beyond 10 reaches the contour integral at the receiver's centroid (off
+/// the receiver's mean by O((reach / d)^2), a few 1e-3); beyond 2, Dunavant's 7-point rule
+/// over the receiver (exchange_by_rule, 3e-6 at 3 reaches); nearer, the adaptive
+/// quadrature over the smaller of the two (exchange_integral), reciprocal by construction.
+/// 0 if either lies wholly behind the other.
+inline Transfer element_transfer(const Hierarchy& h, NodeId r, NodeId s) {
+    bool r_sees = false, s_sees = false;
+    for (const Vec3& v : h.polygon(s)) r_sees = r_sees || plane_distance(h, r, v) > 0.0;
+    for (const Vec3& v : h.polygon(r)) s_sees = s_sees || plane_distance(h, s, v) > 0.0;
+    if (!r_sees || !s_sees) return {};
+    const double d = glm::length(h.centre[s] - h.centre[r]);
+    const double reach = h.radius[r] + h.radius[s];
+    double F;
+    if (d > 10.0 * reach) {
+        F = point_to_polygon(h.centre[r], h.normal[r], h.polygon(s));
+    } else if (d > 2.0 * reach) {
+        F = exchange_by_rule(h.polygon(r), h.normal[r], h.polygon(s)) / h.area[r];
+    } else {
+        const bool over_r = h.area[r] < h.area[s] || (h.area[r] == h.area[s] && r < s);
+        F = (over_r ? exchange_integral(h.polygon(r), h.normal[r], h.polygon(s), near_exchange)
+                    : exchange_integral(h.polygon(s), h.normal[s], h.polygon(r), near_exchange)) /
+            h.area[r];
+    }
+    return {F, F};
+}
+
+/// How a node faces a direction u (unit) toward the other node at distance d with bounding
+/// radius rad: an element's cos(theta) clamped at 0, a cluster's mean over orientations;
+/// `facing.cut` when the element's plane cuts the other's sphere (cos is then unreliable).
+struct Facing {
+    double cos = 0.0;
+    bool cut = false;
+};
+inline Facing facing(const Hierarchy& h, NodeId n, const Vec3& u, double d, double rad) {
+    if (h.is_cluster(n)) return {1.0, false};
+    const double c = glm::dot(h.normal[n], u);
+    return {std::max(c, 0.0), std::abs(c * d) < rad};
+}
+
+}  // namespace detail
+
+/// The transfer coefficient T_rs: irradiance at receiver r per unit radiosity of source s.
+/// Two elements: the form factor (element_transfer). A cluster in the pair: the point-to-point
+/// kernel between the nodes' centres, T = A_s g_s g_r / d^2, with g_s = cos(theta_s) / pi for an
+/// element source and 1 / (4 pi) for an isotropic cluster (its mean intensity over
+/// orientations), g_r = cos(theta_r) for an element receiver and 1/4 for a cluster (the mean
+/// projected area of its surfaces; Sillion 1995). Cost: O(corners), or 7-14 contour integrals.
+inline Transfer transfer(const Hierarchy& h, NodeId r, NodeId s) {
+    if (!h.is_cluster(r) && !h.is_cluster(s)) return detail::element_transfer(h, r, s);
+    const Vec3 rs = h.centre[s] - h.centre[r];
+    const double d = glm::length(rs);
+    const double reach = h.radius[r] + h.radius[s];
+    const double As = h.area[s];
+    if (d <= reach) return {0.0, 1.0, true};  // overlapping: no estimate, only a bound (refine)
+    const Vec3 u = rs / d;
+    const detail::Facing fr = detail::facing(h, r, u, d, h.radius[s]);
+    const detail::Facing fs = detail::facing(h, s, -u, d, h.radius[r]);
+    const bool behind_r = !h.is_cluster(r) && glm::dot(h.normal[r], rs) + h.radius[s] <= 0.0;
+    const bool behind_s = !h.is_cluster(s) && -glm::dot(h.normal[s], rs) + h.radius[r] <= 0.0;
+    if (behind_r || behind_s) return {};  // one lies wholly behind the other
+    const double gs = h.is_cluster(s) ? 1.0 / (4.0 * std::numbers::pi) : fs.cos / std::numbers::pi;
+    const double gr = h.is_cluster(r) ? 0.25 : fr.cos;
+    const double T = As * gs * gr / (d * d);
+    // Bound: both facing head-on at the nearest the spheres allow.
+    const double gap = std::max(d - reach, 1e-3 * d);
+    const double gs_max = h.is_cluster(s) ? gs : 1.0 / std::numbers::pi;
+    const double gr_max = h.is_cluster(r) ? gr : 1.0;
+    const bool unreliable = fr.cut || fs.cut || d < 2.0 * reach;
+    const double bound = unreliable ? std::min(1.0, As * gs_max * gr_max / (gap * gap)) : T;
+    return {T, std::max(bound, T), unreliable};
+}
+
+namespace detail {
+
+/// A uniform random point on node n, by area over a cluster's roots, and the root it lies on.
+inline Vec3 uniform_point(const Hierarchy& h, NodeId n, Rng& rng, std::uint32_t& root) {
+    std::vector<Vec3> one;
+    if (!h.is_cluster(n)) {
+        root = h.root_of(n);
+        stratified_points(h.polygon(n), 1, rng, one);
+        return one[0];
+    }
+    const double a = h.order_area[h.member_begin[n]] + rng.uniform() * h.area[n];
+    const auto first = h.order_area.begin() + h.member_begin[n] + 1,
+               last = h.order_area.begin() + h.member_end[n];
+    const auto pos =
+        static_cast<std::uint32_t>(std::upper_bound(first, last, a) - h.order_area.begin() - 1);
+    root = h.order[std::min(pos, h.member_end[n] - 1)];
+    stratified_points(h.roots.polygon(root), 1, rng, one);
+    return one[0];
+}
+
+/// A uniform random point on node n, and the root it lies on (for the ray's own-face
+/// exclusion): on the element itself or, for a cluster, on one of its roots picked by area
+/// among those that face `toward` (up to 8 draws): the isotropic cluster's intensity already
+/// counts the surfaces that face away, so rays from them, blocked by the cluster's own front,
+/// would count its self-shadowing twice.
+inline Vec3 random_point(const Hierarchy& h, NodeId n, const Vec3& toward, Rng& rng,
+                         std::uint32_t& root) {
+    std::vector<Vec3> one;
+    if (!h.is_cluster(n)) {
+        root = h.root_of(n);
+        stratified_points(h.polygon(n), 1, rng, one);
+        return one[0];
+    }
+    const auto first = h.order_area.begin() + h.member_begin[n] + 1,
+               last = h.order_area.begin() + h.member_end[n];
+    for (int tries = 0; tries < 8; ++tries) {
+        const double a = h.order_area[h.member_begin[n]] + rng.uniform() * h.area[n];
+        const auto pos =
+            static_cast<std::uint32_t>(std::upper_bound(first, last, a) - h.order_area.begin() - 1);
+        root = h.order[std::min(pos, h.member_end[n] - 1)];
+        if (glm::dot(toward - h.roots.centroid(root), h.roots.normal(root)) > 0.0) break;
+    }
+    stratified_points(h.roots.polygon(root), 1, rng, one);
+    return one[0];
+}
+
+}  // namespace detail
+
+/// A link's sampled transfer: the unoccluded coefficient and the visible fraction.
+struct SampledTransfer {
+    double coefficient = 0.0;  ///< T_rs, unoccluded
+    double visibility = 1.0;   ///< the visible fraction, weighted by what each sample carries
+};
+
+namespace detail {
+
+/// Clusters of at most this many faces are sampled face by face by importance (pick_face).
+inline constexpr std::uint32_t importance_faces = 64;
+
+/// A face of cluster s for a sample at x (normal n), and the probability it was picked with:
+/// for a small cluster, by a cheap estimate of what each face carries to x, the point-to-point
+/// kernel at its centroid, A_b (cos_x + 0.05) (cos_b + 0.05) / (d^2 + A_b) (never 0, so that
+/// every face that can carry anything can be picked: the estimate stays unbiased); for a large
+/// one, by area. Cost: O(faces) for a small cluster, O(log faces) for a large one.
+inline std::uint32_t pick_face(const Hierarchy& h, NodeId s, const Vec3& x, const Vec3& n, Rng& rng,
+                               double& probability) {
+    const std::uint32_t b = h.member_begin[s], e = h.member_end[s];
+    if (e - b > importance_faces) {
+        std::uint32_t root = 0;
+        uniform_point(h, s, rng, root);
+        probability = h.roots.area(root) / h.area[s];
+        return root;
+    }
+    std::array<double, importance_faces> q;
+    double total = 0.0;
+    for (std::uint32_t i = b; i < e; ++i) {
+        const std::uint32_t f = h.order[i];
+        const Vec3 d = h.roots.centroid(f) - x;
+        const double d2 = glm::dot(d, d), len = std::sqrt(d2) + 1e-300;
+        const double cx = std::max(glm::dot(n, d) / len, 0.0) + 0.05;
+        const double cb = std::max(-glm::dot(h.roots.normal(f), d) / len, 0.0) + 0.05;
+        q[i - b] = h.roots.area(f) * cx * cb / (d2 + h.roots.area(f));
+        total += q[i - b];
+    }
+    double u = rng.uniform() * total;
+    std::uint32_t i = b;
+    for (; i + 1 < e && u >= q[i - b]; ++i) u -= q[i - b];
+    probability = q[i - b] / total;
+    return h.order[i];
+}
+
+}  // namespace detail
+
+/// Transfer and visibility of a link with a cluster at one end, sampled (Monte Carlo over the
+/// true surfaces, not the isotropic model): `samples` points x uniform by area on r, each with a
+/// face b of s (pick_face: by importance in a small cluster, by area in a large one, with
+/// probability p_b), T_rs = mean of F(x -> b) / p_b, where F(x -> b) is Lambert's exact
+/// point-to-polygon form factor (bounded, unlike the point-to-point kernel, so that near and
+/// overlapping nodes are estimated as well as far ones), and V = sum w V / sum w from one ray
+/// per sample to a uniform point of b. This is the irradiance averaged over the receiver, so
+/// the energy a cluster gathers is right whatever its surfaces' orientations. Seeded by the two
+/// nodes' keys. Cost: `samples` contour integrals and rays.
+template <Visibility V>
+SampledTransfer sampled_transfer(const Hierarchy& h, const V& scene, NodeId r, NodeId s,
+                                 int samples, std::uint64_t seed) {
+    Rng rng(splitmix64(seed ^ splitmix64(h.key[r]) ^ (splitmix64(h.key[s]) >> 1)));
+    double sum = 0.0, seen = 0.0;
+    std::vector<Vec3> one;
+    for (int i = 0; i < samples; ++i) {
+        std::uint32_t a = 0, b = 0;
+        const Vec3 x = detail::uniform_point(h, r, rng, a);
+        const Vec3 nx = h.is_cluster(r) ? h.roots.normal(a) : h.normal[r];
+        double p = 1.0;
+        if (h.is_cluster(s))
+            b = detail::pick_face(h, s, x, nx, rng, p);
+        else
+            b = h.root_of(s);
+        const auto face = h.is_cluster(s) ? h.roots.polygon(b) : h.polygon(s);
+        const double w = point_to_polygon(x, nx, face) / p;
+        if (w == 0.0) continue;
+        one.clear();
+        stratified_points(face, 1, rng, one);
+        sum += w;
+        if (!scene.occluded(x, one[0], a, b)) seen += w;
+    }
+    if (sum == 0.0) return {0.0, 1.0};
+    return {sum / samples, seen / sum};
+}
+
+/// The visibility V_rs of a link: the fraction of `rays` segments between random points of r
+/// and s (stratified on elements, area-weighted over a cluster's roots) that the scene leaves
+/// unblocked. The stream is seeded by the two nodes' keys and `seed`, so a link's visibility
+/// never depends on threads or on the order of work. Cost: `rays` occlusion queries.
+template <Visibility V>
+double link_visibility(const Hierarchy& h, const V& scene, NodeId r, NodeId s, int rays,
+                       std::uint64_t seed) {
+    Rng rng(splitmix64(seed ^ splitmix64(h.key[r]) ^ (splitmix64(h.key[s]) >> 1)));
+    const int k = std::max(1, static_cast<int>(std::lround(std::sqrt(double(rays)))));
+    std::vector<Vec3> xs, ys;
+    if (!h.is_cluster(r) && !h.is_cluster(s)) {  // both elements: stratified, jittered pairs
+        jittered_pairs(h.polygon(r), h.polygon(s), k, rng, xs, ys);
+        return visibility_sums(scene, xs, h.normal[r], ys, h.normal[s], h.root_of(r), h.root_of(s))
+            .fraction();
+    }
+    int seen = 0;
+    const int n = k * k;
+    for (int i = 0; i < n; ++i) {
+        std::uint32_t a = 0, b = 0;
+        const Vec3 x = detail::random_point(h, r, h.centre[s], rng, a);
+        const Vec3 y = detail::random_point(h, s, x, rng, b);
+        seen += scene.occluded(x, y, a, b) ? 0 : 1;
+    }
+    return double(seen) / double(n);
+}
+
+}  // namespace radiosity

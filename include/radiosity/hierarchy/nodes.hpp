@@ -1,0 +1,233 @@
+#pragma once
+/// @file nodes.hpp  The nodes of hierarchical radiosity in flat arrays: elements, quadtrees over
+/// the input faces (Hanrahan, Salzman & Aupperle 1991), and clusters, a binary volume hierarchy
+/// over those faces (Smits, Arvo & Greenberg 1994; Sillion 1995), so that the whole scene starts
+/// as one node and initial linking is a single self-link. Indices, not pointers: cheap to copy,
+/// to checkpoint and to send between processes.
+
+#include <radiosity/config.hpp>
+#include <radiosity/error.hpp>
+#include <radiosity/geometry/patch_table.hpp>
+#include <radiosity/geometry/polygon.hpp>
+#include <radiosity/geometry/sampling.hpp>
+#include <radiosity/geometry/vec.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <span>
+#include <vector>
+
+namespace radiosity {
+
+/// Index of a node (cluster or element) of a Hierarchy.
+using NodeId = std::uint32_t;
+/// "No node": the parent of the top node, the first child of a leaf.
+inline constexpr NodeId no_node = 0xffffffffu;
+
+/// Midpoint of p and q, computed one way only: an edge split from either of its two faces gives
+/// the same bits, so neighbours' vertices can be matched exactly (see leaves.hpp).
+inline Vec3 midpoint(const Vec3& p, const Vec3& q) {
+    return 0.5 * (p + q);
+}
+
+/// The nodes of the hierarchy. Node 0 is the top: the cluster of all roots (or the only root).
+/// Every node's children are consecutive ids after it (first_child .. + child_count), so a pass
+/// in increasing id order meets parents before children (push) and in decreasing order children
+/// before parents (pull). A root element is one input face (a triangle or a convex quad);
+/// elements split 1 -> 4 at their edge midpoints; a cluster has two children.
+struct Hierarchy {
+    PatchTable roots;                    ///< root faces' polygons; the BVH is built over them
+    std::vector<std::uint32_t> surface;  ///< per root: the patch-mesh face it was cut from
+    std::vector<std::uint32_t> order;    ///< roots in cluster order: a cluster's are a range
+    std::vector<double> order_area;      ///< prefix sums of root areas along `order`
+
+    std::vector<NodeId> parent;               ///< parent node, no_node for node 0
+    std::vector<NodeId> first_child;          ///< first child, no_node for a leaf
+    std::vector<std::uint8_t> child_count;    ///< 0, 2 (cluster) or 4 (element)
+    std::vector<std::uint8_t> corner_count;   ///< 3 or 4 for elements, 0 for clusters
+    std::vector<std::uint8_t> depth;          ///< element depth below its root (0 for clusters)
+    std::vector<std::uint32_t> member_begin;  ///< first position in `order` of its roots
+    std::vector<std::uint32_t> member_end;    ///< one past the last
+    std::vector<double> area;                 ///< A: element area; cluster: sum of its roots'
+    std::vector<double> radius;               ///< bounding-sphere radius about centre
+    std::vector<Vec3> centre;                 ///< element centroid; cluster box centre
+    std::vector<Vec3> normal;                 ///< element unit normal; zero for clusters
+    std::vector<std::uint64_t> key;           ///< identity for random streams (not the id)
+    std::vector<std::array<Vec3, 4>> corner;  ///< element corners, counter-clockwise
+
+    std::size_t size() const { return parent.size(); }                  ///< number of nodes
+    bool is_cluster(NodeId n) const { return corner_count[n] == 0; }    ///< cluster or element
+    bool is_leaf(NodeId n) const { return first_child[n] == no_node; }  ///< no children
+    std::uint32_t root_of(NodeId n) const { return order[member_begin[n]]; }  ///< element's root
+    /// An element's polygon (3 or 4 corners).
+    std::span<const Vec3> polygon(NodeId n) const { return {corner[n].data(), corner_count[n]}; }
+    /// Area of the roots in positions [b, e) of `order`.
+    double member_area(std::uint32_t b, std::uint32_t e) const {
+        return order_area[e] - order_area[b];
+    }
+
+    /// Appends a node with no children; returns its id.
+    NodeId add_node(NodeId up, std::uint32_t b, std::uint32_t e, std::uint64_t k) {
+        const auto id = static_cast<NodeId>(size());
+        parent.push_back(up);
+        first_child.push_back(no_node);
+        child_count.push_back(0);
+        corner_count.push_back(0);
+        depth.push_back(0);
+        member_begin.push_back(b);
+        member_end.push_back(e);
+        area.push_back(0.0);
+        radius.push_back(0.0);
+        centre.push_back(Vec3(0.0));
+        normal.push_back(Vec3(0.0));
+        key.push_back(k);
+        corner.push_back({});
+        return id;
+    }
+
+    /// Makes node n the element of polygon p (3 or 4 corners).
+    void set_element(NodeId n, std::span<const Vec3> p) {
+        RADIOSITY_ASSERT(p.size() == 3 || p.size() == 4);
+        corner_count[n] = static_cast<std::uint8_t>(p.size());
+        std::copy(p.begin(), p.end(), corner[n].begin());
+        area[n] = polygon_area(p);
+        normal[n] = polygon_normal(p);
+        centre[n] = polygon_centroid(p);
+        double r = 0.0;
+        for (const Vec3& v : p) r = std::max(r, glm::length(v - centre[n]));
+        radius[n] = r;
+    }
+
+    /// Bytes held by the node arrays (for the report).
+    std::size_t bytes() const {
+        const std::size_t per_node = 3 * sizeof(NodeId) + 3 + 2 * sizeof(std::uint32_t) +
+                                     2 * sizeof(double) + 2 * sizeof(Vec3) + sizeof(std::uint64_t) +
+                                     sizeof(std::array<Vec3, 4>);
+        return size() * per_node + order.size() * (sizeof(std::uint32_t) + sizeof(double));
+    }
+};
+
+namespace detail {
+
+/// The four children of element polygon p, split at its edge midpoints: a triangle into three
+/// corner triangles and the middle one, a quad into four quads about its centre (the mean of its
+/// corners). Children keep the parent's orientation.
+inline std::array<std::array<Vec3, 4>, 4> split_corners(std::span<const Vec3> p) {
+    if (p.size() == 3) {
+        const Vec3 ab = midpoint(p[0], p[1]), bc = midpoint(p[1], p[2]), ca = midpoint(p[2], p[0]);
+        return {{{p[0], ab, ca, Vec3(0.0)},
+                 {ab, p[1], bc, Vec3(0.0)},
+                 {ca, bc, p[2], Vec3(0.0)},
+                 {ab, bc, ca, Vec3(0.0)}}};
+    }
+    const Vec3 ab = midpoint(p[0], p[1]), bc = midpoint(p[1], p[2]), cd = midpoint(p[2], p[3]),
+               da = midpoint(p[3], p[0]);
+    const Vec3 m = 0.25 * (p[0] + p[1] + p[2] + p[3]);
+    return {{{p[0], ab, m, da}, {ab, p[1], bc, m}, {m, bc, p[2], cd}, {da, m, cd, p[3]}}};
+}
+
+/// Bounding box of the roots in positions [b, e) of h.order, and the box of their centroids.
+struct MemberBoxes {
+    Vec3 lo{1e300}, hi{-1e300}, clo{1e300}, chi{-1e300};
+};
+inline MemberBoxes member_boxes(const Hierarchy& h, std::uint32_t b, std::uint32_t e) {
+    MemberBoxes m;
+    for (std::uint32_t i = b; i < e; ++i) {
+        const std::uint32_t r = h.order[i];
+        for (const Vec3& v : h.roots.polygon(r)) {
+            m.lo = glm::min(m.lo, v);
+            m.hi = glm::max(m.hi, v);
+        }
+        m.clo = glm::min(m.clo, h.roots.centroid(r));
+        m.chi = glm::max(m.chi, h.roots.centroid(r));
+    }
+    return m;
+}
+
+/// Fills node n as the cluster of the roots in positions [b, e) of `order` and returns the
+/// position at which its two halves divide: the median of the roots' centroids along the
+/// longest axis of their box (ties by root index, so the tree never depends on the sort).
+inline std::uint32_t make_cluster(Hierarchy& h, NodeId n, std::uint32_t b, std::uint32_t e) {
+    const MemberBoxes m = member_boxes(h, b, e);
+    h.centre[n] = 0.5 * (m.lo + m.hi);
+    h.radius[n] = 0.5 * glm::length(m.hi - m.lo);
+    const Vec3 extent = m.chi - m.clo;
+    const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0
+                     : extent.y >= extent.z                       ? 1
+                                                                  : 2;
+    const std::uint32_t mid = b + (e - b) / 2;
+    std::nth_element(h.order.begin() + b, h.order.begin() + mid, h.order.begin() + e,
+                     [&](std::uint32_t x, std::uint32_t y) {
+                         const double cx = h.roots.centroid(x)[axis],
+                                      cy = h.roots.centroid(y)[axis];
+                         return cx < cy || (cx == cy && x < y);
+                     });
+    return mid;
+}
+
+}  // namespace detail
+
+/// Builds the top of the hierarchy over root polygons (triangles or convex quads, with the
+/// patch-mesh face each came from): the cluster tree by median splits (each cluster's two
+/// children consecutive), its leaves the root elements. Node keys hash the tree position, so
+/// random streams depend on where a node is, not on when it was made. Cost: O(n log n).
+inline Hierarchy build_hierarchy(PatchTable roots, std::vector<std::uint32_t> surface) {
+    Hierarchy h;
+    h.roots = std::move(roots);
+    h.surface = std::move(surface);
+    const auto n = static_cast<std::uint32_t>(h.roots.size());
+    if (n == 0) throw Error("hierarchical radiosity: the scene has no faces");
+    h.order.resize(n);
+    std::iota(h.order.begin(), h.order.end(), 0u);
+    // The median splits permute `order` within each range, so the prefix areas (and the
+    // clusters' areas from them) are summed once the tree is built.
+    struct Pending {
+        NodeId node;
+        std::uint32_t b, e;
+    };
+    std::vector<Pending> todo{{h.add_node(no_node, 0, n, splitmix64(1)), 0, n}};
+    std::vector<Pending> clusters;
+    for (std::size_t t = 0; t < todo.size(); ++t) {  // breadth first: todo grows as it goes
+        const Pending p = todo[t];
+        if (p.e - p.b == 1) continue;  // a root element, filled below
+        const std::uint32_t mid = detail::make_cluster(h, p.node, p.b, p.e);
+        const NodeId first = h.add_node(p.node, p.b, mid, splitmix64(h.key[p.node] * 2 + 1));
+        h.add_node(p.node, mid, p.e, splitmix64(h.key[p.node] * 2 + 2));
+        h.first_child[p.node] = first;
+        h.child_count[p.node] = 2;
+        todo.push_back({first, p.b, mid});
+        todo.push_back({first + 1, mid, p.e});
+        clusters.push_back(p);
+    }
+    h.order_area.assign(n + 1, 0.0);
+    for (std::uint32_t i = 0; i < n; ++i)
+        h.order_area[i + 1] = h.order_area[i] + h.roots.area(h.order[i]);
+    for (const Pending& p : clusters) h.area[p.node] = h.member_area(p.b, p.e);
+    for (const Pending& p : todo)
+        if (p.e - p.b == 1) h.set_element(p.node, h.roots.polygon(h.order[p.b]));
+    return h;
+}
+
+/// Splits leaf element n into its four children (split_corners), appended as consecutive nodes
+/// whose keys follow from n's. Returns the first child. Not thread-safe (it appends).
+inline NodeId split_element(Hierarchy& h, NodeId n) {
+    RADIOSITY_ASSERT(!h.is_cluster(n) && h.is_leaf(n));
+    const auto children = detail::split_corners(h.polygon(n));
+    const std::size_t corners = h.corner_count[n];
+    NodeId first = no_node;
+    for (std::size_t c = 0; c < 4; ++c) {
+        const NodeId id =
+            h.add_node(n, h.member_begin[n], h.member_end[n], splitmix64(h.key[n] * 4 + c + 1));
+        if (c == 0) first = id;
+        h.set_element(id, std::span<const Vec3>(children[c].data(), corners));
+        h.depth[id] = static_cast<std::uint8_t>(h.depth[n] + 1);
+    }
+    h.first_child[n] = first;
+    h.child_count[n] = 4;
+    return first;
+}
+
+}  // namespace radiosity
