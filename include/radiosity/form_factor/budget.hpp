@@ -71,7 +71,8 @@ class MemoryLimitError : public Error {
         }
         return s +
                "; fewer patches (SolveOptions::subdivision: a longer max_edge or a larger "
-               "max_area) need n^2 less, progressive shooting needs no matrix, and "
+               "max_area) need n^2 less, the hierarchical solver and progressive shooting "
+               "need no matrix, and "
                "SolveOptions::max_matrix_bytes raises the limit";
     }
 };

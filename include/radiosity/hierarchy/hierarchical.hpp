@@ -13,6 +13,7 @@
 #include <radiosity/hierarchy/gather.hpp>
 #include <radiosity/hierarchy/leaves.hpp>
 #include <radiosity/hierarchy/refine.hpp>
+#include <radiosity/mesh/corner_uv.hpp>
 #include <radiosity/mesh/mesh.hpp>
 #include <radiosity/progress.hpp>
 #include <radiosity/solver/session.hpp>
@@ -82,22 +83,31 @@ template <SpectrumType S>
 Hierarchy hierarchy_of(const Mesh<S>& mesh) {
     PatchTable roots;
     std::vector<std::uint32_t> surface;
+    std::vector<std::array<Vec3, 4>> uvs;  // per root, if the mesh has lightmap UVs
+    const bool with_uv = has_corner_uvs(mesh);
+    auto add = [&](std::span<const Vec3> p, std::span<const glm::vec2> uv, auto f) {
+        roots.add(p, "face " + std::to_string(f.idx()));
+        surface.push_back(static_cast<std::uint32_t>(f.idx()));
+        if (!with_uv) return;
+        std::array<Vec3, 4> u{};
+        for (std::size_t k = 0; k < p.size(); ++k) u[k] = Vec3(uv[k].x, uv[k].y, 0.0);
+        uvs.push_back(u);
+    };
     for (auto f : mesh.faces()) {
         const std::vector<Vec3> p = face_polygon(mesh, f);
-        const std::string what = "face " + std::to_string(f.idx());
+        std::vector<glm::vec2> uv = corner_uvs(mesh, f);
+        if (!with_uv) uv.assign(p.size(), glm::vec2(0.0f));
         if (p.size() <= 4) {
-            roots.add(p, what);
-            surface.push_back(static_cast<std::uint32_t>(f.idx()));
+            add(p, uv, f);
             continue;
         }
         for (std::size_t k = 1; k + 1 < p.size(); ++k) {
             const std::array<Vec3, 3> t{p[0], p[k], p[k + 1]};
-            if (!(polygon_area(t) > 0.0)) continue;  // collinear corners along an edge
-            roots.add(t, what);
-            surface.push_back(static_cast<std::uint32_t>(f.idx()));
+            const std::array<glm::vec2, 3> tu{uv[0], uv[k], uv[k + 1]};
+            if (polygon_area(t) > 0.0) add(t, tu, f);  // not collinear corners along an edge
         }
     }
-    return build_hierarchy(std::move(roots), std::move(surface));
+    return build_hierarchy(std::move(roots), std::move(surface), uvs);
 }
 
 /// The state of a hierarchical solve for K bands: the nodes, their values and the links.

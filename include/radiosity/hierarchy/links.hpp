@@ -10,6 +10,7 @@
 #include <radiosity/hierarchy/nodes.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
@@ -128,13 +129,33 @@ inline Transfer transfer(const Hierarchy& h, NodeId r, NodeId s) {
 
 namespace detail {
 
+/// The point of a triangle or convex quad p for (u, v) in the unit square, uniform in area:
+/// u picks the fan triangle by its share of the area and, rescaled, the position in it by the
+/// area-preserving map (1 - sqrt(u), sqrt(u) (1 - v), sqrt(u) v) (Shirley 1991), as
+/// stratified_points does, without its allocations (this runs for every ray of every link).
+inline Vec3 polygon_point(std::span<const Vec3> p, double u, double v) {
+    std::size_t t = 0;
+    if (p.size() == 4) {
+        const double a0 = glm::length(glm::cross(p[1] - p[0], p[2] - p[0]));
+        const double a1 = glm::length(glm::cross(p[2] - p[0], p[3] - p[0]));
+        const double split = a0 / (a0 + a1);
+        if (u < split) {
+            u /= split;
+        } else {
+            u = (u - split) / (1.0 - split);
+            t = 1;
+        }
+    }
+    const double s = std::sqrt(std::clamp(u, 0.0, 1.0));
+    return (1.0 - s) * p[0] + s * (1.0 - v) * p[t + 1] + s * v * p[t + 2];
+}
+
 /// A uniform random point on node n, by area over a cluster's roots, and the root it lies on.
 inline Vec3 uniform_point(const Hierarchy& h, NodeId n, Rng& rng, std::uint32_t& root) {
-    std::vector<Vec3> one;
     if (!h.is_cluster(n)) {
         root = h.root_of(n);
-        stratified_points(h.polygon(n), 1, rng, one);
-        return one[0];
+        const double u = rng.uniform();
+        return polygon_point(h.polygon(n), u, rng.uniform());
     }
     const double a = h.order_area[h.member_begin[n]] + rng.uniform() * h.area[n];
     const auto first = h.order_area.begin() + h.member_begin[n] + 1,
@@ -142,34 +163,8 @@ inline Vec3 uniform_point(const Hierarchy& h, NodeId n, Rng& rng, std::uint32_t&
     const auto pos =
         static_cast<std::uint32_t>(std::upper_bound(first, last, a) - h.order_area.begin() - 1);
     root = h.order[std::min(pos, h.member_end[n] - 1)];
-    stratified_points(h.roots.polygon(root), 1, rng, one);
-    return one[0];
-}
-
-/// A uniform random point on node n, and the root it lies on (for the ray's own-face
-/// exclusion): on the element itself or, for a cluster, on one of its roots picked by area
-/// among those that face `toward` (up to 8 draws): the isotropic cluster's intensity already
-/// counts the surfaces that face away, so rays from them, blocked by the cluster's own front,
-/// would count its self-shadowing twice.
-inline Vec3 random_point(const Hierarchy& h, NodeId n, const Vec3& toward, Rng& rng,
-                         std::uint32_t& root) {
-    std::vector<Vec3> one;
-    if (!h.is_cluster(n)) {
-        root = h.root_of(n);
-        stratified_points(h.polygon(n), 1, rng, one);
-        return one[0];
-    }
-    const auto first = h.order_area.begin() + h.member_begin[n] + 1,
-               last = h.order_area.begin() + h.member_end[n];
-    for (int tries = 0; tries < 8; ++tries) {
-        const double a = h.order_area[h.member_begin[n]] + rng.uniform() * h.area[n];
-        const auto pos =
-            static_cast<std::uint32_t>(std::upper_bound(first, last, a) - h.order_area.begin() - 1);
-        root = h.order[std::min(pos, h.member_end[n] - 1)];
-        if (glm::dot(toward - h.roots.centroid(root), h.roots.normal(root)) > 0.0) break;
-    }
-    stratified_points(h.roots.polygon(root), 1, rng, one);
-    return one[0];
+    const double u = rng.uniform();
+    return polygon_point(h.roots.polygon(root), u, rng.uniform());
 }
 
 }  // namespace detail
@@ -189,11 +184,13 @@ inline constexpr std::uint32_t importance_faces = 64;
 /// for a small cluster, by a cheap estimate of what each face carries to x, the point-to-point
 /// kernel at its centroid, A_b (cos_x + 0.05) (cos_b + 0.05) / (d^2 + A_b) (never 0, so that
 /// every face that can carry anything can be picked: the estimate stays unbiased); for a large
-/// one, by area. Cost: O(faces) for a small cluster, O(log faces) for a large one.
+/// one, or one farther than 4 radii (where the kernel varies little over it), by area. Cost:
+/// O(faces) for a small near cluster, O(log faces) otherwise.
 inline std::uint32_t pick_face(const Hierarchy& h, NodeId s, const Vec3& x, const Vec3& n, Rng& rng,
                                double& probability) {
     const std::uint32_t b = h.member_begin[s], e = h.member_end[s];
-    if (e - b > importance_faces) {
+    const double d = glm::length(h.centre[s] - x);
+    if (e - b > importance_faces || d > 4.0 * h.radius[s]) {  // far: the kernel hardly varies
         std::uint32_t root = 0;
         uniform_point(h, s, rng, root);
         probability = h.roots.area(root) / h.area[s];
@@ -224,16 +221,17 @@ inline std::uint32_t pick_face(const Hierarchy& h, NodeId s, const Vec3& x, cons
 /// face b of s (pick_face: by importance in a small cluster, by area in a large one, with
 /// probability p_b), T_rs = mean of F(x -> b) / p_b, where F(x -> b) is Lambert's exact
 /// point-to-polygon form factor (bounded, unlike the point-to-point kernel, so that near and
-/// overlapping nodes are estimated as well as far ones), and V = sum w V / sum w from one ray
-/// per sample to a uniform point of b. This is the irradiance averaged over the receiver, so
+/// overlapping nodes are estimated as well as far ones; beyond 4 reaches, the kernel at a
+/// uniform point y of b times A_b, the same in expectation and cheaper), and V = sum w V / sum w
+/// from one ray per sample to y. This is the irradiance averaged over the receiver, so
 /// the energy a cluster gathers is right whatever its surfaces' orientations. Seeded by the two
 /// nodes' keys. Cost: `samples` contour integrals and rays.
 template <Visibility V>
 SampledTransfer sampled_transfer(const Hierarchy& h, const V& scene, NodeId r, NodeId s,
                                  int samples, std::uint64_t seed) {
     Rng rng(splitmix64(seed ^ splitmix64(h.key[r]) ^ (splitmix64(h.key[s]) >> 1)));
+    const bool far = glm::length(h.centre[s] - h.centre[r]) > 4.0 * (h.radius[r] + h.radius[s]);
     double sum = 0.0, seen = 0.0;
-    std::vector<Vec3> one;
     for (int i = 0; i < samples; ++i) {
         std::uint32_t a = 0, b = 0;
         const Vec3 x = detail::uniform_point(h, r, rng, a);
@@ -244,41 +242,53 @@ SampledTransfer sampled_transfer(const Hierarchy& h, const V& scene, NodeId r, N
         else
             b = h.root_of(s);
         const auto face = h.is_cluster(s) ? h.roots.polygon(b) : h.polygon(s);
-        const double w = point_to_polygon(x, nx, face) / p;
+        const double u = rng.uniform();
+        const Vec3 y = detail::polygon_point(face, u, rng.uniform());
+        // Far apart, the point-to-point kernel at y, times the face's area, is as good and
+        // needs no arc tangents; near, only Lambert's integral over the face stays bounded.
+        const Vec3 ny = h.is_cluster(s) ? h.roots.normal(b) : h.normal[s];
+        const double area_b = h.is_cluster(s) ? h.roots.area(b) : h.area[s];
+        const double w =
+            (far ? form_factor_kernel(x, nx, y, ny) * area_b : point_to_polygon(x, nx, face)) / p;
         if (w == 0.0) continue;
-        one.clear();
-        stratified_points(face, 1, rng, one);
         sum += w;
-        if (!scene.occluded(x, one[0], a, b)) seen += w;
+        if (!scene.occluded(x, y, a, b)) seen += w;
     }
     if (sum == 0.0) return {0.0, 1.0};
     return {sum / samples, seen / sum};
 }
 
-/// The visibility V_rs of a link: the fraction of `rays` segments between random points of r
-/// and s (stratified on elements, area-weighted over a cluster's roots) that the scene leaves
-/// unblocked. The stream is seeded by the two nodes' keys and `seed`, so a link's visibility
-/// never depends on threads or on the order of work. Cost: `rays` occlusion queries.
+/// The visibility V_rs of a link between two elements: the kernel-weighted fraction
+/// (VisibilitySums) of k x k stratified, jittered sample pairs, k = round(sqrt(rays)) at most
+/// 16, the strata of s shuffled against those of r (as jittered_pairs draws them), whose segments
+/// the scene leaves unblocked. The stream is seeded by the two nodes' keys and `seed`, so a
+/// link's visibility never depends on threads or on the order of work. Cost: k^2 occlusion
+/// queries, no allocation.
 template <Visibility V>
 double link_visibility(const Hierarchy& h, const V& scene, NodeId r, NodeId s, int rays,
                        std::uint64_t seed) {
     Rng rng(splitmix64(seed ^ splitmix64(h.key[r]) ^ (splitmix64(h.key[s]) >> 1)));
-    const int k = std::max(1, static_cast<int>(std::lround(std::sqrt(double(rays)))));
-    std::vector<Vec3> xs, ys;
-    if (!h.is_cluster(r) && !h.is_cluster(s)) {  // both elements: stratified, jittered pairs
-        jittered_pairs(h.polygon(r), h.polygon(s), k, rng, xs, ys);
-        return visibility_sums(scene, xs, h.normal[r], ys, h.normal[s], h.root_of(r), h.root_of(s))
-            .fraction();
-    }
-    int seen = 0;
+    const int k = std::clamp(static_cast<int>(std::lround(std::sqrt(double(rays)))), 1, 16);
     const int n = k * k;
+    std::array<std::uint16_t, 256> strata;
+    for (int i = 0; i < n; ++i) strata[std::size_t(i)] = static_cast<std::uint16_t>(i);
+    for (int m = n; m > 1; --m)  // Fisher-Yates (Knuth 1969)
+        std::swap(strata[std::size_t(m - 1)],
+                  strata[static_cast<std::size_t>(rng.uniform() * double(m))]);
+    const auto pr = h.polygon(r), ps = h.polygon(s);
+    const std::uint32_t a = h.root_of(r), b = h.root_of(s);
+    VisibilitySums sums;
     for (int i = 0; i < n; ++i) {
-        std::uint32_t a = 0, b = 0;
-        const Vec3 x = detail::random_point(h, r, h.centre[s], rng, a);
-        const Vec3 y = detail::random_point(h, s, x, rng, b);
-        seen += scene.occluded(x, y, a, b) ? 0 : 1;
+        const int j = strata[std::size_t(i)];
+        const double u0 = (i / k + rng.uniform()) / k, v0 = (i % k + rng.uniform()) / k;
+        const double u1 = (j / k + rng.uniform()) / k, v1 = (j % k + rng.uniform()) / k;
+        const Vec3 x = detail::polygon_point(pr, u0, v0), y = detail::polygon_point(ps, u1, v1);
+        const double kernel = form_factor_kernel(x, h.normal[r], y, h.normal[s]);
+        if (kernel == 0.0) continue;
+        sums.total += kernel;
+        if (!scene.occluded(x, y, a, b)) sums.seen += kernel;
     }
-    return double(seen) / double(n);
+    return sums.fraction();
 }
 
 }  // namespace radiosity

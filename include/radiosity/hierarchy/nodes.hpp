@@ -57,6 +57,9 @@ struct Hierarchy {
     std::vector<Vec3> normal;                 ///< element unit normal; zero for clusters
     std::vector<std::uint64_t> key;           ///< identity for random streams (not the id)
     std::vector<std::array<Vec3, 4>> corner;  ///< element corners, counter-clockwise
+    bool has_uv = false;  ///< the scene has lightmap UVs, and every node an entry in uv
+    /// Lightmap UVs of the element corners (u, v, 0), split as the corners are.
+    std::vector<std::array<Vec3, 4>> uv;
 
     std::size_t size() const { return parent.size(); }                  ///< number of nodes
     bool is_cluster(NodeId n) const { return corner_count[n] == 0; }    ///< cluster or element
@@ -85,6 +88,7 @@ struct Hierarchy {
         normal.push_back(Vec3(0.0));
         key.push_back(k);
         corner.push_back({});
+        if (has_uv) uv.push_back({});
         return id;
     }
 
@@ -172,12 +176,15 @@ inline std::uint32_t make_cluster(Hierarchy& h, NodeId n, std::uint32_t b, std::
 
 /// Builds the top of the hierarchy over root polygons (triangles or convex quads, with the
 /// patch-mesh face each came from): the cluster tree by median splits (each cluster's two
-/// children consecutive), its leaves the root elements. Node keys hash the tree position, so
-/// random streams depend on where a node is, not on when it was made. Cost: O(n log n).
-inline Hierarchy build_hierarchy(PatchTable roots, std::vector<std::uint32_t> surface) {
+/// children consecutive), its leaves the root elements, with the roots' corner UVs if given
+/// (one per root, or none). Node keys hash the tree position, so random streams depend on where
+/// a node is, not on when it was made. Cost: O(n log n).
+inline Hierarchy build_hierarchy(PatchTable roots, std::vector<std::uint32_t> surface,
+                                 const std::vector<std::array<Vec3, 4>>& root_uvs = {}) {
     Hierarchy h;
     h.roots = std::move(roots);
     h.surface = std::move(surface);
+    h.has_uv = !root_uvs.empty();
     const auto n = static_cast<std::uint32_t>(h.roots.size());
     if (n == 0) throw Error("hierarchical radiosity: the scene has no faces");
     h.order.resize(n);
@@ -207,7 +214,10 @@ inline Hierarchy build_hierarchy(PatchTable roots, std::vector<std::uint32_t> su
         h.order_area[i + 1] = h.order_area[i] + h.roots.area(h.order[i]);
     for (const Pending& p : clusters) h.area[p.node] = h.member_area(p.b, p.e);
     for (const Pending& p : todo)
-        if (p.e - p.b == 1) h.set_element(p.node, h.roots.polygon(h.order[p.b]));
+        if (p.e - p.b == 1) {
+            h.set_element(p.node, h.roots.polygon(h.order[p.b]));
+            if (h.has_uv) h.uv[p.node] = root_uvs[h.order[p.b]];
+        }
     return h;
 }
 
@@ -217,12 +227,15 @@ inline NodeId split_element(Hierarchy& h, NodeId n) {
     RADIOSITY_ASSERT(!h.is_cluster(n) && h.is_leaf(n));
     const auto children = detail::split_corners(h.polygon(n));
     const std::size_t corners = h.corner_count[n];
+    // UVs split as the corners do (midpoints and the mean of four are affine in both).
+    const auto uvs = !h.has_uv ? children : detail::split_corners({h.uv[n].data(), corners});
     NodeId first = no_node;
     for (std::size_t c = 0; c < 4; ++c) {
         const NodeId id =
             h.add_node(n, h.member_begin[n], h.member_end[n], splitmix64(h.key[n] * 4 + c + 1));
         if (c == 0) first = id;
         h.set_element(id, std::span<const Vec3>(children[c].data(), corners));
+        if (h.has_uv) h.uv[id] = uvs[c];
         h.depth[id] = static_cast<std::uint8_t>(h.depth[n] + 1);
     }
     h.first_child[n] = first;

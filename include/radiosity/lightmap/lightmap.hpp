@@ -14,18 +14,21 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace radiosity {
 
 /// Settings of a lightmap bake.
 struct LightmapOptions {
-    UnwrapOptions unwrap{};           ///< atlas size or density, gutter, chart angle (its crease
-                                      ///< angle is taken from shading)
-    double texels_per_patch = 4.0;    ///< longest patch edge in texels (0: the solve's own meshing)
-    std::size_t max_patches = 20000;  ///< patches made by the texel rule, at most (then coarser)
-    BakeOptions bake{};               ///< inside-geometry test and dilation
-    SmoothShadingOptions shading{};   ///< crease angle of the interpolated radiosity
+    UnwrapOptions unwrap{};         ///< atlas size or density, gutter, chart angle (its crease
+                                    ///< angle is taken from shading)
+    double texels_per_patch = 4.0;  ///< longest patch edge in texels (0: the solve's own meshing)
+    /// Patches made by the texel rule, at most (then coarser), for the dense solvers; the
+    /// hierarchical solver has no cap.
+    std::size_t max_patches = 20000;
+    BakeOptions bake{};              ///< inside-geometry test and dilation
+    SmoothShadingOptions shading{};  ///< crease angle of the interpolated radiosity
 };
 
 /// What bake() returns: the solved scene, its shaded mesh with lightmap UVs, the lightmap, the
@@ -110,8 +113,12 @@ BakeResult<S> bake(const Mesh<S>& scene, SolveOptions solve_options,
     out.unwrap_seconds = detail::seconds_since(t0);
     if (options.texels_per_patch > 0.0 && out.atlas.texel_density > 0.0) {
         double& max_edge = solve_options.subdivision.max_edge;
+        // The cap keeps a dense matrix in bounds; the hierarchical solver has none (its leaves
+        // follow the texel rule down to a quarter of the texel patch's area, as needed).
+        const bool capped = solve_options.solver != SolverKind::hierarchical;
         const double edge = detail::texel_patch_edge(
-            mesh, options.texels_per_patch / out.atlas.texel_density, options.max_patches);
+            mesh, options.texels_per_patch / out.atlas.texel_density,
+            capped ? options.max_patches : std::numeric_limits<std::size_t>::max());
         max_edge = max_edge > 0.0 ? std::min(max_edge, edge) : edge;
     }
     out.patch_edge = solve_options.subdivision.max_edge;
