@@ -30,10 +30,37 @@ glm::vec3 rgb_of(const S& b) {
     return {c[0], c[1], c[2]};
 }
 
-/// Appends a fan of triangles over the given output vertices of one face.
+/// Whether output vertices a, b, c make a triangle of no area (collinear, to rounding).
+inline bool flat_triangle(const ShadedMesh& out, std::uint32_t a, std::uint32_t b,
+                          std::uint32_t c) {
+    const Vec3 &p = out.positions[a], &q = out.positions[b], &r = out.positions[c];
+    const double scale = glm::dot(q - p, q - p) + glm::dot(r - p, r - p);
+    return glm::length(glm::cross(q - p, r - p)) <= 1e-9 * scale;
+}
+
+/// Appends triangles over the given output vertices of one (convex) face: a fan from the first
+/// corner, unless that would make a triangle of no area, as it does where a face has corners
+/// in a row along an edge (the T-vertices a hierarchical solve inserts, leaves.hpp); then ears
+/// are cut at corners that turn, so every vertex is used and no triangle is flat.
 inline void fan(ShadedMesh& out, const std::vector<std::uint32_t>& corners) {
-    for (std::size_t k = 1; k + 1 < corners.size(); ++k)
-        out.triangles.push_back({corners[0], corners[k], corners[k + 1]});
+    bool flat = false;
+    for (std::size_t k = 1; k + 1 < corners.size() && !flat; ++k)
+        flat = flat_triangle(out, corners[0], corners[k], corners[k + 1]);
+    if (!flat) {
+        for (std::size_t k = 1; k + 1 < corners.size(); ++k)
+            out.triangles.push_back({corners[0], corners[k], corners[k + 1]});
+        return;
+    }
+    std::vector<std::uint32_t> left = corners;
+    while (left.size() >= 3) {
+        const std::size_t n = left.size();
+        std::size_t ear = n;
+        for (std::size_t i = 0; i < n && ear == n; ++i)
+            if (!flat_triangle(out, left[(i + n - 1) % n], left[i], left[(i + 1) % n])) ear = i;
+        if (ear == n) return;  // all in a row: nothing with area is left
+        out.triangles.push_back({left[(ear + n - 1) % n], left[ear], left[(ear + 1) % n]});
+        left.erase(left.begin() + static_cast<std::ptrdiff_t>(ear));
+    }
 }
 }  // namespace detail
 
