@@ -273,7 +273,7 @@ TEST_CASE("--help lists every option once, in the option group of its job, each 
          {"--max-edge", "--max-area", "--divide", "--unit", "--flip-faces", "--no-cut",
           "--two-sided"}},
         {"Form factors", {"--form-factor", "--resolution", "--samples", "--max-memory"}},
-        {"Solver", {"--solver", "--tolerance", "--max-iterations"}},
+        {"Solver", {"--solver", "--tolerance", "--max-iterations", "--link-error", "--min-area"}},
         {"Pictures",
          {"--image", "--hdr", "--width", "--height", "--camera", "--fov", "--flat", "--exposure"}},
         {"Exports",
@@ -340,6 +340,35 @@ TEST_CASE("a solver stopped by its iteration guard: a warning, exit status 3, ou
                        out("long.png") + "'");
     CHECK_MESSAGE(ok.status == 0, ok.err);
     CHECK(ok.err.find("warning") == std::string::npos);
+}
+
+TEST_CASE("--solver hierarchical: its leaves are the patches, the summary counts its links") {
+    const Run r = run("cornell --solver hierarchical --dump-patches '" + out("h.csv") +
+                      "' --image '" + out("h.png") + "'");
+    REQUIRE_MESSAGE(r.status == 0, r.err);
+    CHECK_MESSAGE(r.err.find(" elements, ") != std::string::npos, r.err);
+    CHECK(r.err.find(" links (") != std::string::npos);
+    const std::size_t at = r.err.find(" patches (leaves)");
+    REQUIRE(at != std::string::npos);
+    const std::size_t line = r.err.rfind('\n', at);
+    const std::size_t patches =
+        std::stoul(r.err.substr(line == std::string::npos ? 0 : line + 1, at));
+    CHECK(read_csv(out("h.csv"), true).size() == patches);
+    CHECK(fs::file_size(out("h.png")) > 0);
+    // Its own options are checked like the others.
+    check_one_line_error("cornell --solver hierarchical --link-error -1", "--link-error");
+    check_one_line_error("cornell --solver hierarchical --min-area 0", "--min-area");
+}
+
+TEST_CASE(
+    "too big for a dense matrix: solved hierarchically and said so, unless a solver is named") {
+    const Run r =
+        run("cornell-empty --max-edge 100 --max-memory 0.000001 --image '" + out("auto.png") + "'");
+    REQUIRE_MESSAGE(r.status == 0, r.err);
+    CHECK_MESSAGE(r.err.find("solved by hierarchical radiosity") != std::string::npos, r.err);
+    CHECK(r.err.find(" links (") != std::string::npos);
+    check_one_line_error("cornell-empty --max-edge 100 --max-memory 0.000001 --solver jacobi",
+                         "--solver hierarchical");
 }
 
 TEST_CASE("the summary names every file written") {

@@ -54,6 +54,11 @@ int run(const Args& a) {
     }
     for (const std::string& line : solved->result.meshing.lines())
         std::fprintf(stderr, "radiosity: %s\n", line.c_str());
+    if (solved->result.chose_hierarchical)
+        std::fprintf(stderr,
+                     "radiosity: the dense form-factor matrix would pass the memory limit "
+                     "(--max-memory), so the scene was solved by hierarchical radiosity (no "
+                     "matrix); name a --solver to choose yourself\n");
     const auto& r = solved->result.report;
     if (r.cancelled && !a.partial) {
         std::fprintf(stderr,
@@ -96,7 +101,7 @@ int main(int argc, char** argv) {
                      "radiosity: error: %zu patches need a dense form-factor matrix of %.3g GB, "
                      "more than the limit of %.3g GB%s; use fewer patches (a longer --max-edge, "
                      "a larger --max-area or --divide: the matrix shrinks with the square of the "
-                     "patch count), --solver progressive (rows on demand, no matrix), or raise "
+                     "patch count), --solver hierarchical or progressive (no matrix), or raise "
                      "the limit with --max-memory GB\n",
                      e.patches, e.bytes_needed / 1e9, double(e.limit_bytes) / 1e9,
                      e.estimated_seconds >= 0.0

@@ -65,9 +65,11 @@ void add_form_factor_options(CLI::Option_group& g, SceneArgs& a) {
 }
 
 void add_solver_options(CLI::Option_group& g, SceneArgs& a) {
-    g.add_option("--solver", a.solver, "solver")
-        ->check(CLI::IsMember({"jacobi", "gauss-seidel", "progressive", "direct"}))
-        ->capture_default_str();
+    g.add_option("--solver", a.solver,
+                 "solver (default gauss-seidel; hierarchical, by itself, where the dense matrix "
+                 "would pass --max-memory): the dense ones over the n x n form factors, or "
+                 "hierarchical radiosity with clustering, no matrix, for large scenes")
+        ->check(CLI::IsMember({"jacobi", "gauss-seidel", "progressive", "direct", "hierarchical"}));
     g.add_option("--tolerance", a.tolerance,
                  "bound on the relative error of B, |B - B*| / |B*|, at which the solver stops")
         ->check(CLI::PositiveNumber)
@@ -75,6 +77,15 @@ void add_solver_options(CLI::Option_group& g, SceneArgs& a) {
     g.add_option("--max-iterations", a.max_iterations,
                  "stop after this many sweeps (shots for progressive) even if not converged; "
                  "the program then warns and exits with status 3 (default: the solver's guard)")
+        ->check(CLI::PositiveNumber);
+    g.add_option("--link-error", a.link_error,
+                 "hierarchical: refine a link while it would move more than this share of the "
+                 "emitted power (default 5e-5; smaller is finer and slower)")
+        ->check(CLI::PositiveNumber);
+    g.add_option("--min-area", a.min_area,
+                 "hierarchical: split no element into pieces smaller than this area (default: a "
+                 "quarter of the meshing's patch size, --divide or --max-area, or of --max-edge "
+                 "squared)")
         ->check(CLI::PositiveNumber);
 }
 

@@ -27,9 +27,13 @@ struct SceneArgs {
     int resolution = 0;                    ///< hemicube pixels; 0: the hemicube's default
     int samples = 0;                       ///< ray-cast sample pairs; 0: the method's default
     double max_memory_gb = 0.0;  ///< largest dense matrix in GB; 0: half the physical memory
-    std::string solver = "gauss-seidel";  ///< jacobi, gauss-seidel, progressive or direct
-    double tolerance = 1e-4;              ///< relative residual at which the solver stops
-    std::size_t max_iterations = 0;       ///< the solver's iteration guard; 0: its default
+    /// jacobi, gauss-seidel, progressive, direct or hierarchical; empty: not named (then
+    /// gauss-seidel, or hierarchical where the dense matrix would pass --max-memory)
+    std::string solver;
+    double link_error = 0.0;  ///< hierarchical: BF threshold per emitted power; 0: its default
+    double min_area = 0.0;    ///< hierarchical: smallest element; 0: from the meshing options
+    double tolerance = 1e-4;  ///< relative residual at which the solver stops
+    std::size_t max_iterations = 0;  ///< the solver's iteration guard; 0: its default
 };
 
 /// The option groups that add_scene_options made, for a program to add its own options to.
@@ -42,7 +46,7 @@ struct SceneGroups {
 /// Declares the positional scene on app and the groups "Scene and meshing" (--max-edge,
 /// --max-area, --divide, --unit, --flip-faces, --two-sided), "Form factors" (--form-factor,
 /// --resolution, --samples, --max-memory) and "Solver"
-/// (--solver, --tolerance, --max-iterations), all filling a.
+/// (--solver, --tolerance, --max-iterations, --link-error, --min-area), all filling a.
 SceneGroups add_scene_options(CLI::App& app, SceneArgs& a);
 
 /// Where the camera stands: empty camera and fov 0 keep the default camera (scene.hpp).

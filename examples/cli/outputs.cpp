@@ -214,15 +214,26 @@ void print_summary(const radiosity::SolveResult<Colour>& r, const std::string& f
     const auto& report = r.report;
     std::string wrote;
     for (const std::string& f : files) wrote += (wrote.empty() ? "; wrote " : ", ") + f;
+    const char* state = report.cancelled   ? "INTERRUPTED"
+                        : report.converged ? "converged"
+                                           : "NOT converged";
+    if (r.hierarchy) {  // no matrix: what the hierarchy holds instead
+        const auto& h = *r.hierarchy;
+        std::fprintf(stderr,
+                     "%zu patches (leaves); %zu elements, %zu links (%.1f per element), %zu "
+                     "clusters, %.0f MB; refinement %.2f s, %zu passes; hierarchical: %zu "
+                     "iterations, residual %.2e, %s in %.2f s; total %.2f s%s\n",
+                     r.patches.size(), h.elements, h.links, h.links_per_element(), h.clusters,
+                     double(h.bytes) / 1e6, h.refine_seconds, h.passes, report.iterations,
+                     report.residual, state, report.seconds, seconds, wrote.c_str());
+        return;
+    }
     std::fprintf(stderr,
                  "%zu patches; form factors (%s) %.2f s; %s: %zu iterations, residual %.2e, %s "
                  "in %.2f s; total %.2f s%s\n",
                  r.patches.size(), form_factor.c_str(), r.form_factor_seconds,
-                 report.solver.c_str(), report.iterations, report.residual,
-                 report.cancelled   ? "INTERRUPTED"
-                 : report.converged ? "converged"
-                                    : "NOT converged",
-                 report.seconds, seconds, wrote.c_str());
+                 report.solver.c_str(), report.iterations, report.residual, state, report.seconds,
+                 seconds, wrote.c_str());
 }
 
 void print_summary(const radiosity::SolveResult<Colour>& r, const std::string& form_factor,

@@ -26,7 +26,10 @@ radiosity::SolveOptions solve_options(const SceneArgs& a, const radiosity::Mesh<
                                       bool sized_by_texels) {
     radiosity::SolveOptions o;
     o.form_factor = radiosity::parse_form_factor_kind(a.form_factor);
-    o.solver = radiosity::parse_solver_kind(a.solver);
+    o.solver = radiosity::parse_solver_kind(a.solver.empty() ? "gauss-seidel" : a.solver);
+    o.hierarchical_when_too_big = a.solver.empty();
+    if (a.link_error > 0.0) o.hierarchical.link_error = a.link_error;
+    if (a.min_area > 0.0) o.hierarchical.min_area = a.min_area;
     const bool rrv_default = a.max_edge < 0.0 && a.max_area <= 0.0 && a.divide <= 0.0 &&
                              !sized_by_texels &&
                              std::filesystem::path(a.scene).extension() == ".xml";

@@ -105,6 +105,7 @@ radiosity::Solution<Colour> SolveWorker::gather(radiosity::SolverKind solver,
         case radiosity::SolverKind::direct:
             return radiosity::Direct().solve(system, *F, observer);
         case radiosity::SolverKind::progressive:
+        case radiosity::SolverKind::hierarchical:  // refused by the command line (view_args.cpp)
             break;
     }
     throw radiosity::Error("the worker gathers with Jacobi, Gauss-Seidel or the direct solve");

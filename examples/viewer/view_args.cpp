@@ -69,6 +69,11 @@ int bad(const std::string& message) {
 /// Checks what CLI11 cannot check alone and fills in the rest of a.
 std::optional<int> finish(const CLI::App& app, ViewArgs& a, const Raw& raw) {
     a.size_given = app.count("--width") > 0 || app.count("--height") > 0;
+    if (a.scene.solver == "hierarchical")
+        return bad(
+            "--solver hierarchical: the viewer watches the dense solvers sweep their "
+            "patches; solve hierarchically with the radiosity program (its --ply or "
+            "--gltf can be viewed)");
     if (a.picture.flat) a.mode = "flat";
     for (const std::string& p : raw.picks) {
         const auto xy = parse_pixel(p);
