@@ -29,9 +29,8 @@ cmake -S . -B "$build" -DCMAKE_CXX_COMPILER="$cxx" -DCMAKE_BUILD_TYPE=Debug \
   -DRADIOSITY_BUILD_FUZZERS=$fuzzers -DRADIOSITY_BUILD_TESTS=ON -DRADIOSITY_BUILD_EXAMPLES=OFF \
   -DRADIOSITY_BUILD_BENCHMARKS=OFF -DRADIOSITY_OPENMP=OFF -DRADIOSITY_WERROR=ON "${launcher[@]}" \
   > /dev/null
-targets=("${tests[@]}")
-if [ $fuzzers = ON ]; then targets+=(fuzz_seeds "${readers[@]/#/fuzz_}"); fi
-cmake --build "$build" -j "$(nproc)" --target "${targets[@]}"
+# fuzz_programs: the tests and, with clang, fuzz_seeds and the harnesses, built side by side.
+cmake --build "$build" -j "$(nproc)" --target fuzz_programs
 for t in "${tests[@]}"; do
   echo "== $t under ASan + UBSan ($cxx)"
   "$build/tests/$t"

@@ -1,0 +1,238 @@
+// Hierarchical radiosity at scale: a program that prints tables (not Google Benchmark: each row
+// runs once, in a child process of its own, so that its peak memory is its own).
+//
+//   bench_hierarchy ladder   RRV's room3 with finer and finer leaves: RRV's area rule at 1,
+//                            1/4, 1/16 and 1/64 (--min-area a quarter of it), and the dense
+//                            hemicube solve where its matrix fits (area rule 1)
+//   bench_hierarchy million  the Cornell box tessellated into at least a million triangles
+//                            (written as OBJ with --obj FILE), against the same box given as its
+//                            few large faces: time, peak memory and per-material means
+//
+// Columns: seconds (wall), peak resident memory (MB), elements, links, links per element,
+// leaves (the result's patches) and, for the ladder, the cost ratio to the row above.
+#include <radiosity/radiosity.hpp>
+
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace {
+
+using radiosity::Rgb;
+
+/// What one row measured; written by the child into a pipe.
+struct Row {
+    double seconds = 0.0, peak_mb = 0.0;
+    std::size_t elements = 0, links = 0, leaves = 0;
+    double white = 0.0, red = 0.0, green = 0.0;  // per-material means (the million test)
+};
+
+/// Runs f in a child process and returns its Row with the child's peak resident memory.
+template <class F>
+Row in_child(F&& f) {
+    int fd[2];
+    if (pipe(fd) != 0) return {};
+    const pid_t pid = fork();
+    if (pid == 0) {
+        close(fd[0]);
+        Row r = f();
+        rusage u{};
+        getrusage(RUSAGE_SELF, &u);
+        r.peak_mb = double(u.ru_maxrss) / 1024.0;
+        if (write(fd[1], &r, sizeof r) != sizeof r) _exit(1);
+        _exit(0);
+    }
+    close(fd[1]);
+    Row r;
+    if (read(fd[0], &r, sizeof r) != sizeof r) std::fprintf(stderr, "a row failed\n");
+    close(fd[0]);
+    waitpid(pid, nullptr, 0);
+    return r;
+}
+
+double since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Area-weighted mean of the mean band of B over the faces of material m.
+double material_mean(const radiosity::Mesh<Rgb>& mesh, std::uint32_t m) {
+    double sum = 0.0, area = 0.0;
+    for (auto f : mesh.faces()) {
+        if (mesh.data(f).material != m) continue;
+        const double a = radiosity::polygon_area(radiosity::face_polygon(mesh, f));
+        sum += a * radiosity::mean_band(mesh.data(f).radiosity);
+        area += a;
+    }
+    return area > 0.0 ? sum / area : 0.0;
+}
+
+Row solve_row(const radiosity::Mesh<Rgb>& scene, radiosity::SolveOptions o) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto r = radiosity::solve(scene, o);
+    Row row;
+    row.seconds = since(t0);
+    row.leaves = r.patches.size();
+    if (r.hierarchy) {
+        row.elements = r.hierarchy->elements;
+        row.links = r.hierarchy->links;
+    }
+    row.white = material_mean(r.mesh, 0);
+    row.red = material_mean(r.mesh, 1);
+    row.green = material_mean(r.mesh, 2);
+    return row;
+}
+
+int ladder() {
+    const std::string path = std::string(RADIOSITY_SHARED_DIR) + "/rrv/room3.xml";
+    if (!std::ifstream(path)) {
+        std::printf("skipped: %s not found\n", path.c_str());
+        return 0;
+    }
+    const auto scene = radiosity::build_mesh(radiosity::read_rrv<Rgb>(path));
+    std::printf("room3, hierarchical (default link error 5e-5):\n");
+    std::printf(
+        "| area rule | min area | seconds | peak MB | elements | links | links/element "
+        "| leaves | time ratio | memory ratio |\n|---|---|---|---|---|---|---|---|---|---|\n");
+    Row before;
+    for (const double divide : {1.0, 0.25, 0.0625, 0.015625}) {
+        radiosity::SolveOptions o{.solver = radiosity::SolverKind::hierarchical};
+        o.hierarchical.min_area = divide / 4.0;
+        const Row r = in_child([&] { return solve_row(scene, o); });
+        std::printf("| %g | %g | %.2f | %.0f | %zu | %zu | %.1f | %zu |", divide, divide / 4.0,
+                    r.seconds, r.peak_mb, r.elements, r.links,
+                    r.elements ? double(r.links) / double(r.elements) : 0.0, r.leaves);
+        if (before.seconds > 0.0)
+            std::printf(" %.2f | %.2f |\n", r.seconds / before.seconds, r.peak_mb / before.peak_mb);
+        else
+            std::printf(" | |\n");
+        std::fflush(stdout);
+        before = r;
+    }
+    // The dense hemicube solve of RRV's own patches (area rule 1), where its matrix fits.
+    radiosity::SolveOptions dense{.subdivision = {.max_area = 1.0, .conforming = false}};
+    const Row d = in_child([&] { return solve_row(scene, dense); });
+    std::printf("dense hemicube, area rule 1: %.2f s, %.0f MB peak, %zu patches (n^2 matrix)\n",
+                d.seconds, d.peak_mb, d.leaves);
+    return 0;
+}
+
+/// The Cornell box with every face cut into triangles of about `edge` (mm): each input face
+/// (triangles and quads in the built-in box) split into an n x n grid of its own shape, quads'
+/// cells into two triangles.
+radiosity::Scene<Rgb> tessellated_box(double edge) {
+    radiosity::Scene<Rgb> in = radiosity::cornell_box<Rgb>(true), out;
+    out.materials = in.materials;
+    out.source = "Cornell box, tessellated";
+    out.metres_per_unit = in.metres_per_unit;
+    std::vector<std::pair<std::vector<radiosity::Vec3>, std::uint32_t>> pieces;
+    for (std::size_t f = 0; f < in.faces.size(); ++f) {  // triangles and quads; others fanned
+        std::vector<radiosity::Vec3> p;
+        for (auto v : in.faces[f]) p.push_back(in.positions[v]);
+        if (p.size() <= 4)
+            pieces.push_back({p, in.face_material[f]});
+        else
+            for (std::size_t k = 1; k + 1 < p.size(); ++k)
+                pieces.push_back({{p[0], p[k], p[k + 1]}, in.face_material[f]});
+    }
+    for (const auto& [p, material] : pieces) {
+        double longest = 0.0;
+        for (std::size_t k = 0; k < p.size(); ++k)
+            longest = std::max(longest, glm::length(p[(k + 1) % p.size()] - p[k]));
+        const int n = std::max(1, static_cast<int>(std::ceil(longest / edge)));
+        auto at = [&](int i,
+                      int j) {  // point (i/n, j/n) of the face's bilinear (or barycentric) map
+            const double u = double(i) / n, v = double(j) / n;
+            if (p.size() == 3) return p[0] + u * (p[1] - p[0]) + v * (p[2] - p[0]);
+            return (1 - u) * (1 - v) * p[0] + u * (1 - v) * p[1] + u * v * p[2] +
+                   (1 - u) * v * p[3];
+        };
+        const auto base = static_cast<std::uint32_t>(out.positions.size());
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i) out.positions.push_back(at(i, j));
+        auto id = [&](int i, int j) { return base + static_cast<std::uint32_t>(j * (n + 1) + i); };
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                if (p.size() == 3 && i + j >= n) continue;
+                out.faces.push_back({id(i, j), id(i + 1, j), id(i, j + 1)});
+                out.face_material.push_back(material);
+                if (p.size() == 3 && i + j + 1 >= n) continue;
+                out.faces.push_back({id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+                out.face_material.push_back(material);
+            }
+    }
+    return out;
+}
+
+void write_obj(const radiosity::Scene<Rgb>& s, const std::string& path) {
+    std::ofstream obj(path), mtl(path + ".mtl");
+    mtl.precision(9);
+    for (const auto& m : s.materials)
+        mtl << "newmtl " << m.name << "\nKd " << radiosity::band(m.reflectance, 0) << ' '
+            << radiosity::band(m.reflectance, 1) << ' ' << radiosity::band(m.reflectance, 2)
+            << "\nKe " << radiosity::band(m.emission, 0) << ' ' << radiosity::band(m.emission, 1)
+            << ' ' << radiosity::band(m.emission, 2) << "\n";
+    obj.precision(9);
+    obj << "mtllib " << std::string(path).substr(path.find_last_of('/') + 1) << ".mtl\n";
+    for (const auto& v : s.positions) obj << "v " << v.x << ' ' << v.y << ' ' << v.z << '\n';
+    std::uint32_t current = ~0u;
+    for (std::size_t f = 0; f < s.faces.size(); ++f) {
+        if (s.face_material[f] != current) {
+            current = s.face_material[f];
+            obj << "usemtl " << s.materials[current].name << '\n';
+        }
+        obj << 'f';
+        for (auto v : s.faces[f]) obj << ' ' << v + 1;
+        obj << '\n';
+    }
+}
+
+int million(const std::string& obj_path, double edge) {
+    const radiosity::Scene<Rgb> big = tessellated_box(edge);
+    std::printf("Cornell box tessellated to %zu triangles (edge %.2f mm)\n", big.faces.size(),
+                edge);
+    if (!obj_path.empty()) {
+        write_obj(big, obj_path);
+        std::printf("written to %s\n", obj_path.c_str());
+    }
+    radiosity::SolveOptions o{.solver = radiosity::SolverKind::hierarchical};
+    o.subdivision.cut_intersections = false;  // the box's faces only touch
+    const Row r = in_child([&] { return solve_row(radiosity::build_mesh(big), o); });
+    const Row few = in_child(
+        [&] { return solve_row(radiosity::build_mesh(radiosity::cornell_box<Rgb>(true)), o); });
+    std::printf(
+        "| scene | seconds | peak MB | elements | links | links/element | leaves | white "
+        "| red | green |\n|---|---|---|---|---|---|---|---|---|---|\n");
+    for (const auto& [name, x] : {std::pair{"tessellated", r}, std::pair{"few faces", few}})
+        std::printf("| %s | %.1f | %.0f | %zu | %zu | %.1f | %zu | %.5f | %.5f | %.5f |\n", name,
+                    x.seconds, x.peak_mb, x.elements, x.links,
+                    x.elements ? double(x.links) / double(x.elements) : 0.0, x.leaves, x.white,
+                    x.red, x.green);
+    std::printf("tessellated vs few faces: white %+.2f %%, red %+.2f %%, green %+.2f %%\n",
+                100.0 * (r.white / few.white - 1.0), 100.0 * (r.red / few.red - 1.0),
+                100.0 * (r.green / few.green - 1.0));
+    return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    const std::string what = argc > 1 ? argv[1] : "ladder";
+    std::string obj;
+    double edge = 1.96;  // mm: about 1.0 million triangles
+    for (int i = 2; i + 1 < argc; i += 2) {
+        if (std::strcmp(argv[i], "--obj") == 0) obj = argv[i + 1];
+        if (std::strcmp(argv[i], "--edge") == 0) edge = std::atof(argv[i + 1]);
+    }
+    if (what == "ladder") return ladder();
+    if (what == "million") return million(obj, edge);
+    std::fprintf(stderr, "usage: bench_hierarchy ladder | million [--obj FILE] [--edge MM]\n");
+    return 2;
+}
