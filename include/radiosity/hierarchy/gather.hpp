@@ -44,6 +44,9 @@ struct NodeValues {
     std::vector<double> H;       ///< irradiance gathered over the node's own links
     /// The oracle's inputs: the largest rho and B of any leaf below the node (and any band).
     std::vector<double> rho_max, B_max;
+    /// The share of its parent's irradiance a node takes per unit area in the push: exposure
+    /// weights (exposure.hpp) below clusters, 1 below elements.
+    std::vector<double> push;
 
     /// Gives nodes [from, h.size()) their parent's values (new children of a split element).
     void extend(const Hierarchy& h, std::size_t from) {
@@ -51,6 +54,7 @@ struct NodeValues {
         for (auto* v : {&E, &rho, &B, &H}) v->resize(n * K, 0.0);
         rho_max.resize(n, 0.0);
         B_max.resize(n, 0.0);
+        push.resize(n, 1.0);
         for (std::size_t i = from; i < n; ++i) {
             const NodeId p = h.parent[i];
             for (std::size_t k = 0; k < K; ++k) {
@@ -86,7 +90,8 @@ void gather_links(const std::vector<Link>& links, const LinkGroups& g, NodeValue
 }
 
 /// Push-pull: the irradiance of every ancestor added down to the leaves (push, ids increasing:
-/// parents come first), B = E + rho H_total at each leaf, then B pulled up as area-weighted means
+/// parents come first; below a cluster weighted by exposure, v.push), B = E + rho H_total at
+/// each leaf, then B pulled up as area-weighted means
 /// of the children (ids decreasing). Returns the largest change of a leaf's B (every band).
 /// Sequential and in a fixed order. Cost: O(nodes).
 template <std::size_t K>
@@ -97,7 +102,7 @@ double push_pull(const Hierarchy& h, NodeValues<K>& v, std::vector<double>& tota
     for (std::size_t i = 0; i < n; ++i) {
         const NodeId p = h.parent[i];
         for (std::size_t k = 0; k < K; ++k)
-            total[i * K + k] = v.H[i * K + k] + (p == no_node ? 0.0 : total[p * K + k]);
+            total[i * K + k] = v.H[i * K + k] + (p == no_node ? 0.0 : v.push[i] * total[p * K + k]);
         if (!h.is_leaf(static_cast<NodeId>(i))) continue;
         for (std::size_t k = 0; k < K; ++k) {  // B = E + rho H
             const double b = v.E[i * K + k] + v.rho[i * K + k] * total[i * K + k];

@@ -10,6 +10,7 @@
 #include <radiosity/error.hpp>
 #include <radiosity/form_factor/budget.hpp>
 #include <radiosity/geometry/bvh.hpp>
+#include <radiosity/hierarchy/exposure.hpp>
 #include <radiosity/hierarchy/gather.hpp>
 #include <radiosity/hierarchy/leaves.hpp>
 #include <radiosity/hierarchy/refine.hpp>
@@ -41,6 +42,9 @@ struct HierarchicalOptions {
     int coarse_passes = 3;     ///< multigrid passes before the final threshold (4x each)
     int max_final_passes = 2;  ///< refine -> solve rounds at the final threshold
     std::uint64_t seed = 1;    ///< base seed of the links' rays
+    /// Rays per input face for its exposure, which weights a cluster's push (exposure.hpp);
+    /// 0: the isotropic push, every face below a cluster alike.
+    int exposure_rays = 16;
     /// Largest memory for nodes and links, in bytes; 0: half the physical memory. Refinement
     /// that would pass it stops with an Error naming what to change.
     std::size_t max_bytes = 0;
@@ -172,6 +176,9 @@ class HierarchySolve {
         return report;
     }
 
+    /// Weights the push below clusters by the roots' exposure (exposure.hpp).
+    void set_exposure(const std::vector<double>& exposure) { v_.push = push_weights(h_, exposure); }
+
     const Hierarchy& hierarchy() const { return h_; }          ///< the nodes
     const std::vector<Link>& links() const { return links_; }  ///< the links, by receiver
     const NodeValues<K>& values() const { return v_; }         ///< E, rho, B, H per node
@@ -281,6 +288,8 @@ HierarchicalResult<S> solve_hierarchical(const Mesh<S>& patches, const Hierarchi
         }
     });
     const Bvh scene(solve.hierarchy().roots);
+    if (o.exposure_rays > 0)
+        solve.set_exposure(root_exposure(solve.hierarchy(), scene, o.exposure_rays, o.seed));
     HierarchicalResult<S> result;
     result.report = solve.run(scene, tolerance, max_iterations, progress, result.hierarchy);
     const Hierarchy& h = solve.hierarchy();
