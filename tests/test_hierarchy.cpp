@@ -41,12 +41,13 @@ Mesh<Rgb> polygons_mesh(const std::vector<std::vector<Vec3>>& polygons, const st
     return build_mesh(s);
 }
 
-/// Area-weighted mean of band 0 of B over the leaves of each input face (by `surface`).
-std::map<std::uint32_t, double> surface_means(const Mesh<Rgb>& m) {
+/// Area-weighted mean of band 0 of B over the faces of m, grouped by key(face data).
+template <class Key>
+std::map<std::uint32_t, double> means_by(const Mesh<Rgb>& m, Key&& key) {
     std::map<std::uint32_t, std::pair<double, double>> sums;
     for (auto f : m.faces()) {
         const double a = polygon_area(face_polygon(m, f));
-        auto& s = sums[m.data(f).surface];
+        auto& s = sums[key(m.data(f))];
         s.first += a * band(m.data(f).radiosity, 0);
         s.second += a;
     }
@@ -55,18 +56,12 @@ std::map<std::uint32_t, double> surface_means(const Mesh<Rgb>& m) {
     return out;
 }
 
-/// Area-weighted mean of band 0 of B over the faces of each material.
+/// The means over the leaves of each input face, and over the faces of each material.
+std::map<std::uint32_t, double> surface_means(const Mesh<Rgb>& m) {
+    return means_by(m, [](const auto& d) { return d.surface; });
+}
 std::map<std::uint32_t, double> material_means(const Mesh<Rgb>& m) {
-    std::map<std::uint32_t, std::pair<double, double>> sums;
-    for (auto f : m.faces()) {
-        const double a = polygon_area(face_polygon(m, f));
-        auto& s = sums[m.data(f).material];
-        s.first += a * band(m.data(f).radiosity, 0);
-        s.second += a;
-    }
-    std::map<std::uint32_t, double> out;
-    for (const auto& [k, v] : sums) out[k] = v.first / v.second;
-    return out;
+    return means_by(m, [](const auto& d) { return d.material; });
 }
 
 /// Total power sum A B over the faces of m.

@@ -185,7 +185,7 @@ class HierarchySolve {
     /// Bytes of nodes, values and links.
     std::size_t bytes() const {
         return h_.bytes() + links_.capacity() * sizeof(Link) +
-               h_.size() * (4 * K + 2) * sizeof(double);
+               h_.size() * (4 * K + 3) * sizeof(double);
     }
 
   private:

@@ -2,8 +2,9 @@
 /// @file refine.hpp  The refinement of hierarchical radiosity: BF refinement (Hanrahan, Salzman &
 /// Aupperle 1991) of links between elements and clusters, from the one self-link of the top
 /// cluster (Smits, Arvo & Greenberg 1994; Sillion 1995). A link whose estimated transfer
-/// rho_r B_s T_rs A_r exceeds the threshold is replaced by links of the children of its larger
-/// node; it stays where neither can be split (an element at the minimum area). Breadth first,
+/// rho_r B_s T_rs A_r, times the share (r_r + r_s) / d of the distance the pair spans, exceeds
+/// the threshold is replaced by links of the children of its larger node; it stays where
+/// neither can be split (an element at the minimum area). Breadth first,
 /// links judged in parallel and nodes split in a fixed order, so the hierarchy never depends on
 /// the number of threads.
 
@@ -14,12 +15,14 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
+#include <span>
 #include <vector>
 
 namespace radiosity {
 
-/// What the refinement oracle needs of the current solution, per node: max over bands of
-/// rho (the receiver's) and of B (the source's).
+/// What the refinement oracle needs of the current solution, per node: the largest rho (of a
+/// receiver) and B (of a source) of any leaf below it, over all bands.
 struct OracleInputs {
     std::span<const double> rho_max;  ///< per node
     std::span<const double> B_max;    ///< per node
@@ -27,7 +30,7 @@ struct OracleInputs {
 
 /// Settings of the refinement (set from HierarchicalOptions).
 struct RefineSettings {
-    double threshold = 0.0;    ///< absolute power: refine while rho_r B_s T A_r exceeds it
+    double threshold = 0.0;    ///< absolute power: refine while the oracle's estimate exceeds it
     double min_area = 0.0;     ///< elements split only into children of at least this area
     int max_depth = 24;        ///< deepest element level below a root
     int rays = 4;              ///< visibility rays per link between two elements
@@ -85,10 +88,48 @@ inline std::pair<NodeId, NodeId> children_of(Hierarchy& h, NodeId n) {
     return {h.first_child[n], h.first_child[n] + h.child_count[n]};
 }
 
+/// Carries out the verdicts on the frontier's links in their order: kept links go to `done`,
+/// split ones give the (receiver, source) pairs of their children's links to `fresh` (a
+/// cluster's self-link: every pair of its children, a child cluster's own self-link included,
+/// an element's not: a flat element does not see itself). Returns the links split.
+inline std::size_t apply_verdicts(Hierarchy& h, const std::vector<Link>& frontier,
+                                  const std::vector<Verdict>& verdict, std::vector<Link>& done,
+                                  std::vector<std::pair<NodeId, NodeId>>& fresh) {
+    std::size_t splits = 0;
+    for (std::size_t i = 0; i < frontier.size(); ++i) {
+        const Link& l = frontier[i];
+        switch (verdict[i]) {
+            case Verdict::keep:
+                done.push_back(l);
+                continue;
+            case Verdict::receiver: {
+                const auto [b, e] = children_of(h, l.receiver);
+                for (NodeId c = b; c < e; ++c) fresh.emplace_back(c, l.source);
+                break;
+            }
+            case Verdict::source: {
+                const auto [b, e] = children_of(h, l.source);
+                for (NodeId c = b; c < e; ++c) fresh.emplace_back(l.receiver, c);
+                break;
+            }
+            case Verdict::self: {
+                const auto [b, e] = children_of(h, l.receiver);
+                for (NodeId x = b; x < e; ++x)
+                    for (NodeId y = b; y < e; ++y)
+                        if (x != y || h.is_cluster(x)) fresh.emplace_back(x, y);
+                break;
+            }
+        }
+        ++splits;
+    }
+    return splits;
+}
+
 }  // namespace detail
 
-/// Evaluates a new link: its transfer and, if it carries anything, its visibility. A link with
-/// nothing to carry and nothing to refine gets coefficient 0 and bound-less (dropped later).
+/// Evaluates a new link: its transfer and, if it carries anything, its visibility (between
+/// elements: the analytic coefficient and link_visibility; with a cluster: sampled_transfer).
+/// A link between nodes that exchange nothing comes back with visibility -1, to be dropped.
 template <Visibility V>
 Link evaluate_link(const Hierarchy& h, const V& scene, NodeId r, NodeId s,
                    const RefineSettings& settings) {
@@ -144,32 +185,7 @@ std::size_t refine_links(Hierarchy& h, const V& scene, std::vector<Link>& links,
         // Split in link order, one thread: node ids then follow the links, not the schedule.
         const std::size_t before = h.size();
         std::vector<std::pair<NodeId, NodeId>> fresh;
-        for (std::size_t i = 0; i < frontier.size(); ++i) {
-            const Link& l = frontier[i];
-            switch (verdict[i]) {
-                case detail::Verdict::keep:
-                    done.push_back(l);
-                    break;
-                case detail::Verdict::receiver: {
-                    const auto [b, e] = detail::children_of(h, l.receiver);
-                    for (NodeId c = b; c < e; ++c) fresh.emplace_back(c, l.source);
-                    break;
-                }
-                case detail::Verdict::source: {
-                    const auto [b, e] = detail::children_of(h, l.source);
-                    for (NodeId c = b; c < e; ++c) fresh.emplace_back(l.receiver, c);
-                    break;
-                }
-                case detail::Verdict::self: {
-                    const auto [b, e] = detail::children_of(h, l.receiver);
-                    for (NodeId x = b; x < e; ++x)
-                        for (NodeId y = b; y < e; ++y)
-                            if (x != y || h.is_cluster(x)) fresh.emplace_back(x, y);
-                    break;
-                }
-            }
-            if (verdict[i] != detail::Verdict::keep) ++splits;
-        }
+        splits += detail::apply_verdicts(h, frontier, verdict, done, fresh);
         if (h.size() > before) on_nodes(before);
         frontier.assign(fresh.size(), Link{});
         const auto n_fresh = static_cast<std::int64_t>(fresh.size());
@@ -181,7 +197,8 @@ std::size_t refine_links(Hierarchy& h, const V& scene, std::vector<Link>& links,
             frontier[std::size_t(i)] = evaluate_link(h, scene, r, src, s);
         }
         std::erase_if(frontier, [](const Link& l) { return l.visibility < 0.0f; });
-        if (!detail::report(progress, "refine", 0.5)) throw Cancelled();
+        const double settled = double(done.size()) / double(done.size() + frontier.size() + 1);
+        if (!detail::report(progress, "refine", settled)) throw Cancelled();
     }
     std::sort(done.begin(), done.end(), [](const Link& a, const Link& b) {
         return a.receiver < b.receiver || (a.receiver == b.receiver && a.source < b.source);
