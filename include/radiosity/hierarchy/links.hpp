@@ -1,8 +1,10 @@
 #pragma once
 /// @file links.hpp  Links of hierarchical radiosity and what a link carries: the transfer
-/// coefficient between two nodes (form factor for elements, Hanrahan, Salzman & Aupperle 1991;
-/// isotropic clusters, Sillion 1995) and its visibility from jittered rays through the scene's
-/// BVH. The receiver gathers B_source * coefficient * visibility as irradiance.
+/// coefficient between two nodes and its visibility. Between elements, the form factor by
+/// Lambert's contour integral (Hanrahan, Salzman & Aupperle 1991) and jittered rays through the
+/// scene's BVH; with a cluster at one end, both sampled over the cluster's true faces, and the
+/// isotropic cluster (Sillion 1995) only as the refinement oracle's cheap estimate. The receiver
+/// gathers B_source * coefficient * visibility as irradiance.
 
 #include <radiosity/concepts.hpp>
 #include <radiosity/form_factor/analytic.hpp>
@@ -37,8 +39,6 @@ struct Transfer {
     /// bounding sphere, or the two spheres overlap); equal to coefficient otherwise.
     double bound = 0.0;
     bool unreliable = false;  ///< the estimate cannot be trusted: refine if it might matter
-    /// The bound where the estimate is unreliable, 0 otherwise.
-    double bound_if_unreliable() const { return unreliable ? bound : 0.0; }
 };
 
 namespace detail {
