@@ -236,8 +236,7 @@ class HierarchySolve {
             const double q_seen = *std::max_element(ratio.begin(), ratio.end());
             const double q = q_rows < 1.0 ? q_rows : (it >= 3 ? q_seen : 1.0);
             const StoppingRule rule = StoppingRule::sweeps(tolerance, q, cap);
-            double size = 0.0;
-            for (NodeId n = 0; n < h_.size(); ++n) size = std::max(size, v_.B_max[n]);
+            const double size = v_.B_max[0];  // the top node's: the brightest leaf, ||B||_inf
             report.residual = size > 0.0 ? change / size : change;
             report.error_bound = rule.bound(change, size);
             report.converged = rule.met(report.error_bound);

@@ -43,11 +43,6 @@ struct Transfer {
 
 namespace detail {
 
-/// Signed distance of point x from the plane of element n.
-inline double plane_distance(const Hierarchy& h, NodeId n, const Vec3& x) {
-    return glm::dot(x - h.centre[n], h.normal[n]);
-}
-
 /// Settings of the exchange integral for elements close together (within twice their reach):
 /// there the kernel varies fast over both, and touching or crossing elements (a barrel's side
 /// against the ceiling it meets) would be badly served by a fixed rule.
@@ -61,10 +56,9 @@ inline constexpr AnalyticOptions near_exchange{.tolerance = 1e-2, .max_depth = 3
 /// quadrature over the smaller of the two (exchange_integral), reciprocal by construction.
 /// 0 if either lies wholly behind the other.
 inline Transfer element_transfer(const Hierarchy& h, NodeId r, NodeId s) {
-    bool r_sees = false, s_sees = false;
-    for (const Vec3& v : h.polygon(s)) r_sees = r_sees || plane_distance(h, r, v) > 0.0;
-    for (const Vec3& v : h.polygon(r)) s_sees = s_sees || plane_distance(h, s, v) > 0.0;
-    if (!r_sees || !s_sees) return {};
+    if (behind_plane(h.polygon(s), h.centre[r], h.normal[r]) ||
+        behind_plane(h.polygon(r), h.centre[s], h.normal[s]))
+        return {};  // the analytic method's test: one-sided faces that do not face exchange 0
     const double d = glm::length(h.centre[s] - h.centre[r]);
     const double reach = h.radius[r] + h.radius[s];
     double F;
