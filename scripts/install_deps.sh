@@ -7,7 +7,9 @@ packages=(cmake g++ make clang-format libopenmesh-dev libglm-dev libtinyobjloade
           # the readers' fuzzers (clang's libFuzzer, scripts/fuzz.sh)
           clang libclang-rt-14-dev
           # the viewer (radiosity-view), and Xvfb with Mesa's software OpenGL for its tests
-          pkg-config libglfw3-dev libepoxy-dev libimgui-dev xvfb xauth libgl1-mesa-dri)
+          pkg-config libglfw3-dev libepoxy-dev libimgui-dev xvfb xauth libgl1-mesa-dri
+          # the distributed solve (-DRADIOSITY_WITH_MPI=ON) and its tests under mpirun
+          libopenmpi-dev openmpi-bin)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -160,6 +160,20 @@ SceneGroups add_scene_options(CLI::App& app, SceneArgs& a) {
     return g;
 }
 
+void add_checkpoint_options(CLI::Option_group& g, SceneArgs& a) {
+    g.add_option("--checkpoint", a.checkpoint,
+                 "hierarchical: write the solve's state to this file now and then and at Ctrl-C "
+                 "(atomically: a crash leaves the last good one), for --resume");
+    g.add_option("--checkpoint-every", a.checkpoint_every,
+                 "seconds between two checkpoints (0: after every refinement round and sweep)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    g.add_option("--resume", a.resume,
+                 "hierarchical: continue from this checkpoint (same scene and options) to the "
+                 "result an uninterrupted run gives")
+        ->check(CLI::ExistingFile);
+}
+
 void add_camera_options(CLI::App& app, CameraArgs& a) {
     app.add_option("--camera", a.camera, "camera eye, target and up: ex,ey,ez,tx,ty,tz,ux,uy,uz")
         ->expected(9)

@@ -32,7 +32,10 @@ struct SceneArgs {
     std::string solver;
     double link_error = 0.0;  ///< hierarchical: BF threshold per emitted power; 0: its default
     double min_area = 0.0;    ///< hierarchical: smallest element; 0: from the meshing options
-    double tolerance = 1e-4;  ///< relative residual at which the solver stops
+    std::string checkpoint;   ///< hierarchical: checkpoint file; empty: none
+    double checkpoint_every = 60.0;  ///< seconds between checkpoints
+    std::string resume;              ///< hierarchical: checkpoint to continue from
+    double tolerance = 1e-4;         ///< relative residual at which the solver stops
     std::size_t max_iterations = 0;  ///< the solver's iteration guard; 0: its default
 };
 
@@ -48,6 +51,10 @@ struct SceneGroups {
 /// --resolution, --samples, --max-memory) and "Solver"
 /// (--solver, --tolerance, --max-iterations, --link-error, --min-area), all filling a.
 SceneGroups add_scene_options(CLI::App& app, SceneArgs& a);
+
+/// Declares --checkpoint, --checkpoint-every and --resume (the hierarchical solve's
+/// checkpoints; the `radiosity` program's, not the viewer's) on a group, filling a.
+void add_checkpoint_options(CLI::Option_group& g, SceneArgs& a);
 
 /// Where the camera stands: empty camera and fov 0 keep the default camera (scene.hpp).
 struct CameraArgs {

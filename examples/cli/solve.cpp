@@ -30,6 +30,12 @@ radiosity::SolveOptions solve_options(const SceneArgs& a, const radiosity::Mesh<
     o.hierarchical_when_too_big = a.solver.empty();
     if (a.link_error > 0.0) o.hierarchical.link_error = a.link_error;
     if (a.min_area > 0.0) o.hierarchical.min_area = a.min_area;
+    if ((!a.checkpoint.empty() || !a.resume.empty()) && a.solver != "hierarchical")
+        throw radiosity::Error(
+            "--checkpoint and --resume are for --solver hierarchical (the "
+            "dense solves keep no state worth saving)");
+    o.hierarchical.checkpoint = {
+        .file = a.checkpoint, .every_seconds = a.checkpoint_every, .resume = a.resume};
     const bool rrv_default = a.max_edge < 0.0 && a.max_area <= 0.0 && a.divide <= 0.0 &&
                              !sized_by_texels &&
                              std::filesystem::path(a.scene).extension() == ".xml";
@@ -96,6 +102,10 @@ std::optional<Solution> solve_scene(const radiosity::Mesh<Colour>& scene, radios
     ProgressBar bar(quiet);
     o.progress = [&bar](const radiosity::Progress& p) { return bar(p); };
     std::signal(SIGINT, on_interrupt);
+    std::signal(SIGTERM, on_interrupt);  // a batch system's stop
+    // mpirun kills its ranks at Ctrl-C, but passes SIGUSR1 on to every one of them: the way to
+    // stop a distributed solve with a checkpoint.
+    std::signal(SIGUSR1, on_interrupt);
     Solution s;
     try {
         if (lightmap) {  // patches follow the texels unless --max-edge says finer

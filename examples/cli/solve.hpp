@@ -58,8 +58,10 @@ struct Solution {
 };
 
 /// Solves the scene (or, given lightmap options, bakes it) with a ProgressBar as o.progress,
-/// Ctrl-C asking it to stop: a solver stopped that way returns its report with `cancelled`
-/// set. Returns nothing if Ctrl-C came while the form factors were computed (nothing to show).
+/// Ctrl-C asking it to stop (and SIGTERM, and SIGUSR1, which mpirun passes on to its ranks): a
+/// solver stopped that way returns its report with `cancelled` set (the hierarchical one
+/// writes its checkpoint first, if asked for one). Returns nothing if the stop came while the
+/// form factors were computed or the links refined (nothing to show).
 std::optional<Solution> solve_scene(const radiosity::Mesh<Colour>& scene, radiosity::SolveOptions o,
                                     const std::optional<radiosity::LightmapOptions>& lightmap,
                                     bool quiet);

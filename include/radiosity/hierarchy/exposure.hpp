@@ -13,6 +13,7 @@
 #include <radiosity/hierarchy/links.hpp>
 #include <radiosity/hierarchy/nodes.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <numbers>
@@ -22,16 +23,18 @@ namespace radiosity {
 
 /// Exposure of every root in [0, 1] from `rays` cosine-weighted rays (Malley's method) from
 /// uniform points of the root: the share whose first hit, if any, is a front face. Seeded by
-/// the root's index; roots in parallel. Cost: rays x roots closest-hit queries.
+/// the root's index; roots in parallel. Only roots [first, last) if given (a rank's share; the
+/// others stay 1). Cost: rays x roots closest-hit queries.
 inline std::vector<double> root_exposure(const Hierarchy& h, const Bvh& bvh, int rays,
-                                         std::uint64_t seed) {
-    const auto n = static_cast<std::int64_t>(h.roots.size());
+                                         std::uint64_t seed, std::size_t first = 0,
+                                         std::size_t last = std::size_t(-1)) {
+    const auto n = static_cast<std::int64_t>(std::min(last, h.roots.size()));
     std::vector<double> out(h.roots.size(), 1.0);
     const double t_min = 1e-9 * (h.radius[0] + 1.0);
 #if defined(RADIOSITY_WITH_OPENMP)
 #pragma omp parallel for schedule(dynamic, 256)
 #endif
-    for (std::int64_t i = 0; i < n; ++i) {
+    for (std::int64_t i = std::int64_t(first); i < n; ++i) {
         const auto r = static_cast<std::size_t>(i);
         Rng rng(splitmix64(seed ^ (0x5eedull << 40) ^ r));
         const Vec3 nrm = h.roots.normal(r);

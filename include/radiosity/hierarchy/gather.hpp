@@ -129,14 +129,22 @@ double push_pull(const Hierarchy& h, NodeValues<K>& v, std::vector<double>& tota
     return change;
 }
 
+/// The sum of T V over each group's links (a row of the operator the links define), in the
+/// groups' order.
+inline std::vector<double> link_rows(const std::vector<Link>& links, const LinkGroups& g) {
+    std::vector<double> row(g.receivers.size(), 0.0);
+    for (std::size_t gi = 0; gi < row.size(); ++gi)
+        for (std::size_t i = g.begin[gi]; i < g.begin[gi + 1]; ++i)
+            row[gi] += double(links[i].coefficient) * double(links[i].visibility);
+    return row;
+}
+
 /// q = max over leaves of rho_max times the sum of T V over the links of the leaf and of all
-/// its ancestors: ||R F||_inf of the operator the links define, the contraction bound of the
-/// stopping rule. Cost: O(nodes + links).
+/// its ancestors (`row`: per node, link_rows scattered, 0 for nodes without links):
+/// ||R F||_inf of the operator the links define, the contraction bound of the stopping rule.
+/// Cost: O(nodes).
 template <std::size_t K>
-double hierarchy_contraction(const Hierarchy& h, const std::vector<Link>& links,
-                             const NodeValues<K>& v) {
-    std::vector<double> row(h.size(), 0.0);
-    for (const Link& l : links) row[l.receiver] += double(l.coefficient) * double(l.visibility);
+double hierarchy_contraction(const Hierarchy& h, std::vector<double> row, const NodeValues<K>& v) {
     double q = 0.0;
     for (std::size_t i = 0; i < h.size(); ++i) {
         if (h.parent[i] != no_node) row[i] += row[h.parent[i]];

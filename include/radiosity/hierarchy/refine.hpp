@@ -4,16 +4,22 @@
 /// cluster (Smits, Arvo & Greenberg 1994; Sillion 1995). A link whose estimated transfer
 /// rho_r B_s T_rs A_r, times the share (r_r + r_s) / d of the distance the pair spans, exceeds
 /// the threshold is replaced by links of the children of its larger node; it stays where
-/// neither can be split (an element at the minimum area). Breadth first,
-/// links judged in parallel and nodes split in a fixed order, so the hierarchy never depends on
-/// the number of threads.
+/// neither can be split (an element at the minimum area). Breadth first, links judged in
+/// parallel and elements split in increasing id order, so the hierarchy never depends on the
+/// number of threads or ranks; with several ranks each judges and evaluates the links of the
+/// receivers it owns (distributed/partition.hpp) and every rank splits alike.
 
 #include <radiosity/concepts.hpp>
 #include <radiosity/detail/parallel.hpp>
+#include <radiosity/distributed/communicator.hpp>
+#include <radiosity/distributed/partition.hpp>
 #include <radiosity/hierarchy/links.hpp>
 #include <radiosity/hierarchy/nodes.hpp>
+#include <radiosity/progress.hpp>
 
 #include <algorithm>
+#include <array>
+#include <chrono>
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -82,47 +88,61 @@ inline Verdict judge(const Hierarchy& h, const Link& l, const OracleInputs& in,
     return Verdict::keep;
 }
 
-/// Children of node n, splitting a leaf element first (appending its children).
-inline std::pair<NodeId, NodeId> children_of(Hierarchy& h, NodeId n) {
-    if (h.is_leaf(n)) split_element(h, n);
-    return {h.first_child[n], h.first_child[n] + h.child_count[n]};
+/// The leaf element that a verdict splits, if any (clusters have their children already).
+inline NodeId node_to_split(const Hierarchy& h, const Link& l, Verdict v) {
+    const NodeId n = v == Verdict::source ? l.source : l.receiver;
+    if (v == Verdict::keep || h.is_cluster(n) || !h.is_leaf(n)) return no_node;
+    return n;
 }
 
-/// Carries out the verdicts on the frontier's links in their order: kept links go to `done`,
-/// split ones give the (receiver, source) pairs of their children's links to `fresh` (a
-/// cluster's self-link: every pair of its children, a child cluster's own self-link included,
-/// an element's not: a flat element does not see itself). Returns the links split.
-inline std::size_t apply_verdicts(Hierarchy& h, const std::vector<Link>& frontier,
-                                  const std::vector<Verdict>& verdict, std::vector<Link>& done,
-                                  std::vector<std::pair<NodeId, NodeId>>& fresh) {
-    std::size_t splits = 0;
-    for (std::size_t i = 0; i < frontier.size(); ++i) {
-        const Link& l = frontier[i];
-        switch (verdict[i]) {
-            case Verdict::keep:
-                done.push_back(l);
-                continue;
-            case Verdict::receiver: {
-                const auto [b, e] = children_of(h, l.receiver);
-                for (NodeId c = b; c < e; ++c) fresh.emplace_back(c, l.source);
-                break;
-            }
-            case Verdict::source: {
-                const auto [b, e] = children_of(h, l.source);
-                for (NodeId c = b; c < e; ++c) fresh.emplace_back(l.receiver, c);
-                break;
-            }
-            case Verdict::self: {
-                const auto [b, e] = children_of(h, l.receiver);
-                for (NodeId x = b; x < e; ++x)
+/// Carries out one verdict whose nodes are already split: a kept link goes to `done`, a split
+/// one gives the (receiver, source) pairs of its children's links to `fresh` (a cluster's
+/// self-link: every pair of its children, a child cluster's own self-link included, an
+/// element's not: a flat element does not see itself), only those whose receiver `mine`
+/// accepts. Returns whether the link was split.
+template <class Mine>
+bool apply_verdict(const Hierarchy& h, const Link& l, Verdict v, std::vector<Link>& done,
+                   std::vector<std::pair<NodeId, NodeId>>& fresh, const Mine& mine) {
+    const auto children = [&](NodeId n) {
+        RADIOSITY_ASSERT(!h.is_leaf(n));
+        return std::pair<NodeId, NodeId>{h.first_child[n], h.first_child[n] + h.child_count[n]};
+    };
+    switch (v) {
+        case Verdict::keep:
+            done.push_back(l);
+            return false;
+        case Verdict::receiver: {
+            const auto [b, e] = children(l.receiver);
+            for (NodeId c = b; c < e; ++c)
+                if (mine(c)) fresh.emplace_back(c, l.source);
+            return true;
+        }
+        case Verdict::source: {
+            const auto [b, e] = children(l.source);
+            for (NodeId c = b; c < e; ++c) fresh.emplace_back(l.receiver, c);
+            return true;
+        }
+        case Verdict::self: {
+            const auto [b, e] = children(l.receiver);
+            for (NodeId x = b; x < e; ++x)
+                if (mine(x))
                     for (NodeId y = b; y < e; ++y)
                         if (x != y || h.is_cluster(x)) fresh.emplace_back(x, y);
-                break;
-            }
+            return true;
         }
-        ++splits;
     }
-    return splits;
+    return false;
+}
+
+/// Whether carrying out verdict v on a link makes receivers that another rank owns: a split
+/// cluster receiver whose children lie on either side of a cut (an element's children have its
+/// root, and so its owner).
+template <class Owner>
+bool crosses_ranks(const Hierarchy& h, const Link& l, Verdict v, const Owner& owner) {
+    if (v != Verdict::receiver && v != Verdict::self) return false;
+    if (!h.is_cluster(l.receiver)) return false;
+    const NodeId c = h.first_child[l.receiver];
+    return owner(c) != owner(l.receiver) || owner(c + 1) != owner(l.receiver);
 }
 
 }  // namespace detail
@@ -158,53 +178,128 @@ Link evaluate_link(const Hierarchy& h, const V& scene, NodeId r, NodeId s,
 /// [from, h.size()).
 using NodesAdded = std::function<void(std::size_t from)>;
 
-/// One refinement pass over all links at this threshold: every link judged (in parallel), the
-/// ones to split replaced by their children's links (nodes split in link order), the new links
-/// evaluated (in parallel) and judged in turn, until no link splits. Returns the links, sorted
-/// by receiver then source (the order of every gather), and the number of links split.
-/// on_nodes(from) is called after nodes are appended; `in` must then cover them (the caller
-/// gives new elements their parent's values). Cost: O(links made) transfers and rays.
+/// Where a refinement pass stands between two rounds: this rank's settled links and the links
+/// still to be judged; what a checkpoint taken inside a pass holds.
+struct RefineRound {
+    std::vector<Link> done;      ///< kept links
+    std::vector<Link> frontier;  ///< evaluated links to be judged next round
+    std::uint64_t splits = 0;    ///< links split in this pass so far (all ranks)
+    std::uint64_t settled = 0;   ///< links settled so far (all ranks), for progress
+    std::uint64_t open = 1;      ///< links in every rank's frontier (0: the pass is done)
+};
+
+/// What a distributed refinement needs: the ranks, who owns which receiver, the per-position
+/// cost it measures for the next partition, and the log of every element split (all ranks').
+struct RefineShare {
+    Communicator& comm;
+    const Partition& partition;
+    std::vector<std::uint64_t>& cost;  ///< per position of the cluster order: work measured
+    std::vector<NodeId>& split_log;    ///< elements split, in the order they were split
+    double compute_seconds = 0.0;      ///< time judging and evaluating (no waiting on others)
+};
+
+/// Called after every round; returns false to stop the pass (it then throws Cancelled).
+using RoundDone = std::function<bool(const RefineRound&)>;
+
+namespace detail {
+
+/// A link whose split makes receivers on other ranks, with its verdict, sent to every rank.
+struct SharedSplit {
+    Link link;
+    std::uint32_t verdict;
+};
+
+/// One round of a pass: judge this rank's frontier; split, on every rank alike and in
+/// increasing id order, every element that any rank's verdicts split (so node ids never depend
+/// on the ranks or threads); carry out the verdicts; evaluate the new links of this rank's
+/// receivers. Two all-gathers (the splits, the links that cross ranks) and one reduction.
 template <Visibility V>
-std::size_t refine_links(Hierarchy& h, const V& scene, std::vector<Link>& links,
-                         const RefineSettings& s, const std::function<OracleInputs()>& inputs,
-                         const NodesAdded& on_nodes, const ProgressCallback& progress) {
-    std::vector<Link> done;
-    done.reserve(links.size());
-    std::vector<Link> frontier = std::move(links);
-    std::size_t splits = 0;
-    std::vector<detail::Verdict> verdict;
-    while (!frontier.empty()) {
-        const OracleInputs in = inputs();
-        verdict.assign(frontier.size(), detail::Verdict::keep);
-        const auto count = static_cast<std::int64_t>(frontier.size());
+void refine_round(Hierarchy& h, const V& scene, RefineRound& round, const RefineSettings& s,
+                  const OracleInputs& in, const NodesAdded& on_nodes, RefineShare& share) {
+    const int me = share.comm.rank();
+    const auto owner = [&](NodeId n) { return share.partition.owner(h, n); };
+    std::vector<Link>& frontier = round.frontier;
+    std::vector<Verdict> verdict(frontier.size(), Verdict::keep);
+    auto t0 = std::chrono::steady_clock::now();
+    const auto count = static_cast<std::int64_t>(frontier.size());
 #if defined(RADIOSITY_WITH_OPENMP)
 #pragma omp parallel for schedule(dynamic, 256)
 #endif
-        for (std::int64_t i = 0; i < count; ++i)
-            verdict[std::size_t(i)] = detail::judge(h, frontier[std::size_t(i)], in, s);
-        // Split in link order, one thread: node ids then follow the links, not the schedule.
-        const std::size_t before = h.size();
-        std::vector<std::pair<NodeId, NodeId>> fresh;
-        splits += detail::apply_verdicts(h, frontier, verdict, done, fresh);
-        if (h.size() > before) on_nodes(before);
-        frontier.assign(fresh.size(), Link{});
-        const auto n_fresh = static_cast<std::int64_t>(fresh.size());
+    for (std::int64_t i = 0; i < count; ++i)
+        verdict[std::size_t(i)] = judge(h, frontier[std::size_t(i)], in, s);
+    share.compute_seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::vector<NodeId> to_split;
+    std::vector<SharedSplit> shared;
+    for (std::size_t i = 0; i < frontier.size(); ++i) {
+        if (const NodeId n = node_to_split(h, frontier[i], verdict[i]); n != no_node)
+            to_split.push_back(n);
+        if (crosses_ranks(h, frontier[i], verdict[i], owner))
+            shared.push_back({frontier[i], std::uint32_t(verdict[i])});
+    }
+    to_split = all_gather(share.comm, to_split);
+    std::sort(to_split.begin(), to_split.end());
+    to_split.erase(std::unique(to_split.begin(), to_split.end()), to_split.end());
+    const std::size_t before = h.size();
+    for (const NodeId n : to_split) {
+        split_element(h, n);
+        share.split_log.push_back(n);
+    }
+    if (h.size() > before) on_nodes(before);
+    shared = all_gather(share.comm, shared);
+    std::vector<std::pair<NodeId, NodeId>> fresh;
+    std::uint64_t splits = 0;
+    const auto anything = [](NodeId) { return true; };
+    const auto ours = [&](NodeId n) { return owner(n) == me; };
+    for (std::size_t i = 0; i < frontier.size(); ++i)
+        if (!crosses_ranks(h, frontier[i], verdict[i], owner))
+            splits += apply_verdict(h, frontier[i], verdict[i], round.done, fresh, anything);
+    std::vector<Link> unused;
+    for (const SharedSplit& x : shared)  // every rank's, each rank taking its receivers
+        apply_verdict(h, x.link, Verdict(x.verdict), unused, fresh, ours);
+    frontier.assign(fresh.size(), Link{});
+    t0 = std::chrono::steady_clock::now();
+    const auto n_fresh = static_cast<std::int64_t>(fresh.size());
 #if defined(RADIOSITY_WITH_OPENMP)
 #pragma omp parallel for schedule(dynamic, 64)
 #endif
-        for (std::int64_t i = 0; i < n_fresh; ++i) {
-            const auto [r, src] = fresh[std::size_t(i)];
-            frontier[std::size_t(i)] = evaluate_link(h, scene, r, src, s);
-        }
-        std::erase_if(frontier, [](const Link& l) { return l.visibility < 0.0f; });
-        const double settled = double(done.size()) / double(done.size() + frontier.size() + 1);
-        if (!detail::report(progress, "refine", settled)) throw Cancelled();
+    for (std::int64_t i = 0; i < n_fresh; ++i) {
+        const auto [r, src] = fresh[std::size_t(i)];
+        frontier[std::size_t(i)] = evaluate_link(h, scene, r, src, s);
     }
-    std::sort(done.begin(), done.end(), [](const Link& a, const Link& b) {
+    share.compute_seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    for (const auto& [r, src] : fresh)  // the work, where the next partition will weigh it
+        share.cost[h.member_begin[r]] +=
+            std::uint64_t(1 + (h.is_cluster(r) || h.is_cluster(src) ? s.cluster_samples : s.rays));
+    std::erase_if(frontier, [](const Link& l) { return l.visibility < 0.0f; });
+    std::array<std::uint64_t, 3> totals{splits, frontier.size(), round.done.size()};
+    share.comm.sum_in_place(totals);
+    round.splits += totals[0] + shared.size();
+    round.open = totals[1];
+    round.settled = totals[2];
+}
+
+}  // namespace detail
+
+/// One refinement pass over all links at this threshold, continuing `round` (a fresh pass:
+/// every link in its frontier): rounds of judging, splitting and evaluating
+/// (detail::refine_round) until no rank has a link left to judge. Leaves this rank's links in
+/// round.done, sorted by receiver then source (the order of every gather). on_nodes(from) is
+/// called after nodes are appended; `inputs` must then cover them. After each round
+/// round_done(round) may take a checkpoint or stop the pass (Cancelled). Cost: O(links made)
+/// transfers and rays, split over the ranks.
+template <Visibility V>
+void refine_links(Hierarchy& h, const V& scene, RefineRound& round, const RefineSettings& s,
+                  const std::function<OracleInputs()>& inputs, const NodesAdded& on_nodes,
+                  RefineShare& share, const RoundDone& round_done) {
+    while (round.open > 0) {
+        detail::refine_round(h, scene, round, s, inputs(), on_nodes, share);
+        if (round_done && !round_done(round)) throw Cancelled();
+    }
+    std::sort(round.done.begin(), round.done.end(), [](const Link& a, const Link& b) {
         return a.receiver < b.receiver || (a.receiver == b.receiver && a.source < b.source);
     });
-    links = std::move(done);
-    return splits;
 }
 
 }  // namespace radiosity

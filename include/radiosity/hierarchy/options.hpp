@@ -1,0 +1,77 @@
+#pragma once
+/// @file options.hpp  The settings of hierarchical radiosity (hierarchical.hpp), of its
+/// checkpoints (distributed/checkpoint.hpp) and what a solve reports of its hierarchy.
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace radiosity {
+
+class Communicator;
+
+/// Checkpoints of a long hierarchical solve: its whole state written to a file now and then, so
+/// that a killed process or a lost node costs only the work since the last one.
+struct CheckpointOptions {
+    std::string file;             ///< write checkpoints here (atomically); empty: none
+    double every_seconds = 60.0;  ///< at least this long between two; 0: at every safe point
+    std::string resume;           ///< continue from this checkpoint; empty: start afresh
+};
+
+/// Settings of hierarchical radiosity.
+struct HierarchicalOptions {
+    /// BF refinement's threshold as a share of the scene's emitted power: a link is refined
+    /// while it would move more than link_error times sum_i E_i A_i (rho_r B_s T_rs A_r).
+    double link_error = 5e-5;
+    /// Elements split only into children of at least this area; 0: the scene's area / 10^6.
+    double min_area = 0.0;
+    int rays = 4;              ///< visibility rays per link of two elements (a square number)
+    int cluster_samples = 16;  ///< sample pairs, one ray each, per link with a cluster
+    int max_depth = 24;        ///< deepest element level below an input face
+    int coarse_passes = 3;     ///< multigrid passes before the final threshold (4x each)
+    int max_final_passes = 2;  ///< refine -> solve rounds at the final threshold
+    std::uint64_t seed = 1;    ///< base seed of the links' rays
+    /// Rays per input face for its exposure, which weights a cluster's push (exposure.hpp);
+    /// 0: the isotropic push, every face below a cluster alike.
+    int exposure_rays = 16;
+    /// Largest memory for nodes and links, in bytes; 0: half the physical memory. Refinement
+    /// that would pass it stops with an Error naming what to change.
+    std::size_t max_bytes = 0;
+    CheckpointOptions checkpoint{};  ///< where and how often to checkpoint, what to resume
+    /// The ranks to spread the solve over (distributed/mpi.hpp); null: this process alone. The
+    /// radiosities are the same, bit for bit, for any number of ranks.
+    Communicator* communicator = nullptr;
+};
+
+/// What the hierarchy holds at the end of a solve, and where the time went.
+struct HierarchyReport {
+    std::size_t input_faces = 0;  ///< faces of the patch mesh solved (the roots' sources)
+    std::size_t roots = 0;        ///< root elements (faces, polygons split into triangles)
+    std::size_t clusters = 0;     ///< cluster nodes
+    std::size_t elements = 0;     ///< element nodes (roots and their descendants)
+    std::size_t leaves = 0;       ///< leaf elements: the result's patches
+    std::size_t links = 0;        ///< links at the end (all ranks')
+    std::size_t bytes = 0;        ///< memory of nodes, values and links (this rank's)
+    std::size_t passes = 0;       ///< refinement passes
+    double refine_seconds = 0.0;  ///< time spent refining (transfers and rays)
+    /// Of refine_seconds: judging and evaluating this rank's links (the rest: splitting, the
+    /// exchanges of a round and waiting on the other ranks).
+    double link_seconds = 0.0;
+    double solve_seconds = 0.0;      ///< time spent gathering, exchanging and pushing-pulling
+    double gather_seconds = 0.0;     ///< of solve_seconds: gathering over this rank's links
+    double exchange_seconds = 0.0;   ///< of solve_seconds: the per-sweep exchange
+    double push_pull_seconds = 0.0;  ///< of solve_seconds: push-pull
+    int ranks = 1;                   ///< processes the solve was spread over
+    /// Bytes this rank received in the last sweep's exchange (0 on one rank).
+    std::uint64_t exchange_bytes_per_sweep = 0;
+    std::uint64_t bytes_received = 0;  ///< bytes this rank received from the others in all
+    /// Load imbalance: the busiest rank's time judging, evaluating and gathering links over
+    /// the mean (1: balanced; waiting on the others not counted).
+    double imbalance = 1.0;
+    std::size_t checkpoints = 0;  ///< checkpoints written
+    bool resumed = false;         ///< continued from CheckpointOptions::resume
+    /// Links per element.
+    double links_per_element() const { return elements ? double(links) / double(elements) : 0.0; }
+};
+
+}  // namespace radiosity

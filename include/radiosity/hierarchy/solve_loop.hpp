@@ -1,0 +1,472 @@
+#pragma once
+/// @file solve_loop.hpp  The loop of a hierarchical solve (hierarchical.hpp): multigrid passes of
+/// refine -> gather -> push-pull, on one rank or spread over several (each refining and
+/// gathering the receivers it owns, distributed/partition.hpp; every rank holding the nodes and
+/// B), with checkpoints at the points where the state is whole: after each refinement round and
+/// after each sweep. The state is flat arrays (the elements split, in order; B; the links), so a
+/// checkpoint is those arrays, and a resumed solve replays the splits and goes on to the same
+/// bits as one never stopped.
+
+#include <radiosity/distributed/checkpoint.hpp>
+#include <radiosity/distributed/communicator.hpp>
+#include <radiosity/distributed/exchange.hpp>
+#include <radiosity/distributed/partition.hpp>
+#include <radiosity/error.hpp>
+#include <radiosity/form_factor/budget.hpp>
+#include <radiosity/hierarchy/exposure.hpp>
+#include <radiosity/hierarchy/gather.hpp>
+#include <radiosity/hierarchy/options.hpp>
+#include <radiosity/hierarchy/refine.hpp>
+#include <radiosity/progress.hpp>
+#include <radiosity/solver/session.hpp>
+#include <radiosity/solver/system.hpp>
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace radiosity::detail {
+
+/// Seconds since t0 (wall clock).
+inline double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Where a solve stands besides its nodes, B and links: the rest of what a checkpoint holds.
+struct SolveState {
+    std::uint32_t pass = 0;       ///< multigrid pass
+    std::uint32_t iterating = 0;  ///< 0: refining the pass; 1: sweeping it
+    std::uint64_t sweep = 0;      ///< sweeps of this pass done
+    std::uint64_t sweeps = 0;     ///< sweeps over all passes (Report::iterations)
+    std::uint64_t passes = 0;     ///< refinement passes finished
+    double previous = std::numeric_limits<double>::infinity();  ///< last sweep's change
+    double first = 0.0;                                         ///< first sweep's bound
+    std::array<double, 3> ratio{1.0, 1.0, 1.0};       ///< the last three observed contractions
+    std::uint64_t splits = 0, settled = 0, open = 0;  ///< RefineRound's counts
+};
+
+/// Tags of a checkpoint's sections.
+enum CheckpointTag : std::uint32_t {
+    tag_state = 1,
+    tag_splits = 2,
+    tag_B = 3,
+    tag_B_max = 4,
+    tag_done = 5,
+    tag_frontier = 6
+};
+
+/// The state of a hierarchical solve for K bands: the nodes, their values, this rank's links.
+template <std::size_t K>
+class HierarchySolve {
+  public:
+    HierarchySolve(const HierarchySolve&) = delete;  // comm_ may point at its own serial_
+    HierarchySolve& operator=(const HierarchySolve&) = delete;
+    HierarchySolve(Hierarchy h, const HierarchicalOptions& o)
+        : h_(std::move(h)), o_(o), comm_(o.communicator ? o.communicator : &serial_) {
+        cost_.assign(h_.roots.size(), 0);
+        // First estimate of the work per root: its area (finer quadtrees, more links).
+        std::vector<double> c(h_.roots.size());
+        const double mean = h_.area[0] / double(c.size());
+        for (std::size_t i = 0; i < c.size(); ++i)
+            c[i] = 1.0 + h_.roots.area(h_.order[i]) / (mean > 0.0 ? mean : 1.0);
+        partition_ = Partition(c.size(), comm_->size(), c);
+    }
+
+    /// Sets E and rho of every root (from its face, by callback) and the clusters' rho_max.
+    template <class Material>
+    void set_materials(Material&& material) {
+        v_.extend(h_, h_.size());
+        for (NodeId n = 0; n < h_.size(); ++n)
+            if (!h_.is_cluster(n))
+                material(h_.surface[h_.root_of(n)], &v_.E[n * K], &v_.rho[n * K]);
+        for (std::size_t i = h_.size(); i-- > 0;) {
+            double r = 0.0;
+            if (h_.is_cluster(NodeId(i)))
+                for (NodeId c = h_.first_child[i]; c < h_.first_child[i] + 2; ++c)
+                    r = std::max(r, v_.rho_max[c]);
+            else
+                for (std::size_t k = 0; k < K; ++k) r = std::max(r, v_.rho[i * K + k]);
+            v_.rho_max[i] = r;
+            for (std::size_t k = 0; k < K; ++k) v_.B[i * K + k] = v_.E[i * K + k];
+        }
+        std::vector<double> scratch;
+        std::fill(v_.H.begin(), v_.H.end(), 0.0);
+        push_pull(h_, v_, scratch);  // B = E at the leaves, means above
+        emitted_ = 0.0;
+        for (NodeId n = 0; n < h_.size(); ++n)
+            if (!h_.is_cluster(n)) {
+                double e = 0.0;
+                for (std::size_t k = 0; k < K; ++k) e = std::max(e, v_.E[n * K + k]);
+                emitted_ += e * h_.area[n];
+            }
+    }
+
+    /// Weights the push below clusters by the roots' exposure (exposure.hpp), each rank
+    /// casting the rays of an equal share of the roots.
+    void set_exposure(const Bvh& scene, int rays, std::uint64_t seed) {
+        const std::size_t n = h_.roots.size(), ranks = std::size_t(comm_->size()),
+                          me = std::size_t(comm_->rank());
+        const std::size_t first = n * me / ranks, last = n * (me + 1) / ranks;
+        std::vector<double> mine = root_exposure(h_, scene, rays, seed, first, last);
+        mine = all_gather(*comm_, std::vector<double>(mine.begin() + std::ptrdiff_t(first),
+                                                      mine.begin() + std::ptrdiff_t(last)));
+        v_.push = push_weights(h_, mine);
+    }
+
+    /// Runs the passes (hierarchical.hpp's file comment) under `tolerance`, from the start or
+    /// from o.checkpoint.resume.
+    template <Visibility V>
+    Report run(const V& scene, double tolerance, std::size_t max_iterations,
+               const ProgressCallback& progress, HierarchyReport& hr) {
+        Report report;
+        report.solver = "hierarchical";
+        hash_ = scene_hash(tolerance, max_iterations);
+        last_checkpoint_ = std::chrono::steady_clock::now();
+        bool resumed_in_refinement = false;
+        if (!o_.checkpoint.resume.empty()) {
+            resumed_in_refinement = resume(o_.checkpoint.resume);
+            hr.resumed = true;
+        } else if (h_.size() > 1 && partition_.owner(h_, 0) == comm_->rank()) {
+            links_.push_back({0, 0, 0.0f, 1.0f});  // the top cluster's self-link
+        }
+        RefineSettings s = settings();
+        const auto passes = std::uint32_t(o_.coarse_passes + o_.max_final_passes);
+        for (; state_.pass < passes; ++state_.pass, state_.iterating = 0) {
+            const bool final = state_.pass >= std::uint32_t(o_.coarse_passes);
+            s.threshold = o_.link_error * emitted_ *
+                          std::pow(4.0, final ? 0 : o_.coarse_passes - int(state_.pass));
+            if (!state_.iterating) {
+                const auto t0 = std::chrono::steady_clock::now();
+                if (!resumed_in_refinement) begin_pass();
+                resumed_in_refinement = false;
+                refine(scene, s, progress);
+                links_ = std::move(round_.done);
+                state_.splits = round_.splits;
+                round_ = RefineRound{};
+                hr.refine_seconds += seconds_since(t0);
+                state_ = next_sweeps(state_);
+            }
+            const auto t0 = std::chrono::steady_clock::now();
+            iterate(final ? tolerance : std::max(tolerance, 1e-2), max_iterations, progress, report,
+                    hr);
+            hr.solve_seconds += seconds_since(t0);
+            if (report.cancelled) break;
+            if (final && state_.splits == 0) break;
+        }
+        report.iterations = state_.sweeps;
+        finish_report(hr);
+        return report;
+    }
+
+    const Hierarchy& hierarchy() const { return h_; }          ///< the nodes
+    const std::vector<Link>& links() const { return links_; }  ///< this rank's, by receiver
+    const NodeValues<K>& values() const { return v_; }         ///< E, rho, B, H per node
+    /// Bytes of nodes, values and this rank's links.
+    std::size_t bytes() const {
+        return h_.bytes() + links_.capacity() * sizeof(Link) +
+               h_.size() * (4 * K + 3) * sizeof(double);
+    }
+    /// A hash of everything that decides the result: the roots' geometry and materials and the
+    /// options; a checkpoint carries it, and is refused by a run whose hash differs.
+    std::uint64_t scene_hash(double tolerance, std::size_t max_iterations) const {
+        Fnv1a f;
+        f.add_value(std::uint64_t(K));
+        for (std::size_t r = 0; r < h_.roots.size(); ++r)
+            for (const Vec3& p : h_.roots.polygon(r)) f.add_value(p);
+        f.add(h_.surface.data(), h_.surface.size() * sizeof(std::uint32_t));
+        for (NodeId n = 0; n < h_.size() && n < v_.E.size() / K; ++n)
+            if (!h_.is_cluster(n) && h_.depth[n] == 0)
+                for (std::size_t k = 0; k < K; ++k) {
+                    f.add_value(v_.E[n * K + k]);
+                    f.add_value(v_.rho[n * K + k]);
+                }
+        for (const double x : {o_.link_error, o_.min_area, tolerance}) f.add_value(x);
+        for (const int x : {o_.rays, o_.cluster_samples, o_.max_depth, o_.coarse_passes,
+                            o_.max_final_passes, o_.exposure_rays})
+            f.add_value(x);
+        f.add_value(o_.seed);
+        f.add_value(std::uint64_t(max_iterations));
+        return f.value();
+    }
+
+  private:
+    RefineSettings settings() const {
+        RefineSettings s;
+        s.min_area = o_.min_area > 0.0 ? o_.min_area : h_.area[0] * 1e-6;
+        s.max_depth = o_.max_depth;
+        s.rays = o_.rays;
+        s.cluster_samples = o_.cluster_samples;
+        s.seed = o_.seed;
+        return s;
+    }
+
+    /// The state at the start of a pass's sweeps.
+    static SolveState next_sweeps(SolveState st) {
+        st.iterating = 1;
+        st.sweep = 0;
+        st.passes += 1;
+        st.previous = std::numeric_limits<double>::infinity();
+        st.first = 0.0;
+        st.ratio = {1.0, 1.0, 1.0};
+        return st;
+    }
+
+    /// Starts a pass: re-partitions the receivers by the work measured in the last pass (the
+    /// links move to their new owners: one all-to-all), and puts every link in the frontier.
+    void begin_pass() {
+        if (comm_->size() > 1 && state_.pass > 0) {
+            comm_->sum_in_place(cost_);
+            std::vector<double> c(cost_.size());
+            for (std::size_t i = 0; i < c.size(); ++i) c[i] = 1.0 + double(cost_[i]);
+            partition_ = Partition(c.size(), comm_->size(), c);
+            std::vector<std::vector<Link>> send(std::size_t(comm_->size()));
+            for (const Link& l : links_)
+                send[std::size_t(partition_.owner(h_, l.receiver))].push_back(l);
+            links_ = all_to_all(*comm_, send);
+        }
+        std::fill(cost_.begin(), cost_.end(), 0);
+        round_ = RefineRound{};
+        round_.frontier = std::move(links_);
+        links_.clear();
+        std::array<std::uint64_t, 1> open{round_.frontier.size()};
+        comm_->sum_in_place(open);
+        round_.open = open[0];
+    }
+
+    /// 1 if a checkpoint is due on this rank's clock.
+    double checkpoint_due() const {
+        if (o_.checkpoint.file.empty()) return 0.0;
+        return seconds_since(last_checkpoint_) >= o_.checkpoint.every_seconds ? 1.0 : 0.0;
+    }
+
+    template <Visibility V>
+    void refine(const V& scene, const RefineSettings& s, const ProgressCallback& progress) {
+        RefineShare share{*comm_, partition_, cost_, split_log_};
+        auto inputs = [this] { return OracleInputs{v_.rho_max, v_.B_max}; };
+        auto added = [this](std::size_t from) { extend_nodes(from); };
+        // After each round: progress, and a checkpoint if one is due or the user stops (both
+        // decided alike on every rank: the maximum over the ranks).
+        auto round_done = [&](const RefineRound& r) {
+            const double settled = double(r.settled) / double(r.settled + r.open + 1);
+            if (!detail::report(progress, "refine", settled)) stop_ = true;
+            std::array<double, 2> c{checkpoint_due(), stop_ ? 1.0 : 0.0};
+            comm_->max_in_place(c);
+            if (c[0] > 0.0 || (c[1] > 0.0 && !o_.checkpoint.file.empty())) save();
+            return c[1] == 0.0;
+        };
+        refine_links(h_, scene, round_, s, inputs, added, share, round_done);
+        compute_seconds_ += share.compute_seconds;
+    }
+
+    /// Gives nodes [from, size) their parent's values; refuses a hierarchy past the memory
+    /// limit.
+    void extend_nodes(std::size_t from) {
+        const std::size_t limit = o_.max_bytes ? o_.max_bytes : default_matrix_limit();
+        v_.extend(h_, from);
+        if (bytes() > limit)
+            throw Error("hierarchical radiosity: the hierarchy would need more than " +
+                        std::to_string(limit / 1000000) + " MB (" + std::to_string(h_.size()) +
+                        " nodes); raise --link-error or --min-area, or the limit (--max-memory)");
+    }
+
+    /// Gather, exchange and push-pull until the bound on the error of B meets the tolerance.
+    /// The bound is the sweeping solvers' (session.hpp), q / (1 - q) times the last change,
+    /// with q the links' ||R F||_inf where that is below 1; where it is not (a small leaf under
+    /// links averaged over a larger receiver can gather more than 1 per unit B), q is the
+    /// largest of the last three observed contractions change_k / change_k-1, an estimate
+    /// rather than a bound, which the guard backs (2 sweeps_needed + 10 at that q, at most 1000).
+    void iterate(double tolerance, std::size_t cap, const ProgressCallback& progress,
+                 Report& report, HierarchyReport& hr) {
+        const LinkGroups groups = group_links(links_);
+        ReceiverExchange exchange(*comm_, groups);
+        std::vector<double> row(h_.size(), 0.0), total, mine(groups.receivers.size() * K);
+        exchange.share(link_rows(links_, groups), 1, row, {});
+        q_rows_ = hierarchy_contraction(h_, std::move(row), v_);
+        for (;;) {
+            auto t = std::chrono::steady_clock::now();
+            gather_links(links_, groups, v_);
+            hr.gather_seconds += seconds_since(t);
+            t = std::chrono::steady_clock::now();
+            for (std::size_t g = 0; g < groups.receivers.size(); ++g)
+                for (std::size_t k = 0; k < K; ++k)
+                    mine[g * K + k] = v_.H[groups.receivers[g] * K + k];
+            const auto control =
+                exchange.share(mine, K, v_.H, {checkpoint_due(), stop_ ? 1.0 : 0.0});
+            hr.exchange_seconds += seconds_since(t);
+            hr.exchange_bytes_per_sweep = exchange.last_bytes();
+            t = std::chrono::steady_clock::now();
+            const double change = push_pull(h_, v_, total);
+            hr.push_pull_seconds += seconds_since(t);
+            if (sweep_done(change, tolerance, cap, progress, report)) return;
+            if (control[0] > 0.0 || (control[1] > 0.0 && !o_.checkpoint.file.empty())) save();
+            if (control[1] > 0.0) {
+                report.cancelled = true;
+                return;
+            }
+        }
+    }
+
+    /// After a sweep: the stopping rule and progress; true when the pass's sweeps are done.
+    bool sweep_done(double change, double tolerance, std::size_t cap,
+                    const ProgressCallback& progress, Report& report) {
+        SolveState& st = state_;
+        const std::size_t it = st.sweep++;
+        ++st.sweeps;
+        st.ratio[it % 3] =
+            st.previous > 0.0 && std::isfinite(st.previous) ? change / st.previous : 1.0;
+        st.previous = change;
+        const double q_seen = *std::max_element(st.ratio.begin(), st.ratio.end());
+        const double q = q_rows_ < 1.0 ? q_rows_ : (it >= 3 ? q_seen : 1.0);
+        const StoppingRule rule = StoppingRule::sweeps(tolerance, q, cap);
+        const double size = v_.B_max[0];  // the top node's: the brightest leaf, ||B||_inf
+        report.residual = size > 0.0 ? change / size : change;
+        report.error_bound = rule.bound(change, size);
+        report.converged = rule.met(report.error_bound);
+        if (it == 0) st.first = report.error_bound;
+        report.iterations = st.sweeps;
+        Progress pr{"solve", rule.fraction(st.first, report.error_bound), report.residual,
+                    report.iterations};
+        if (!detail::report(progress, pr)) stop_ = true;
+        return report.converged || it + 1 >= std::min<std::size_t>(rule.max_iterations, 1000);
+    }
+
+    /// Writes a checkpoint: every rank's links gathered at rank 0, which writes the file.
+    void save() {
+        const bool refining = state_.iterating == 0;
+        if (refining) {
+            state_.splits = round_.splits;
+            state_.settled = round_.settled;
+            state_.open = round_.open;
+        }
+        const std::vector<Link> done = gather_to_first(*comm_, refining ? round_.done : links_);
+        const std::vector<Link> frontier =
+            gather_to_first(*comm_, refining ? round_.frontier : std::vector<Link>{});
+        if (comm_->rank() == 0) {
+            CheckpointWriter w;
+            w.add_value(tag_state, state_);
+            w.add<NodeId>(tag_splits, split_log_);
+            w.add<double>(tag_B, v_.B);
+            w.add<double>(tag_B_max, v_.B_max);
+            w.add<Link>(tag_done, done);
+            w.add<Link>(tag_frontier, frontier);
+            w.write(o_.checkpoint.file, hash_);
+        }
+        ++checkpoints_;
+        last_checkpoint_ = std::chrono::steady_clock::now();
+    }
+
+    /// Continues from a checkpoint: rank 0 reads it, every rank replays its splits and takes B
+    /// and its own links. Returns whether it was taken inside a refinement pass.
+    bool resume(const std::string& file);
+
+    /// The totals over the ranks: links, and the load imbalance of refine + gather.
+    void finish_report(HierarchyReport& hr) {
+        hr.ranks = comm_->size();
+        const std::vector<double> t =
+            all_gather(*comm_, std::vector<double>{compute_seconds_ + hr.gather_seconds});
+        double sum = 0.0, worst = 0.0;
+        for (double x : t) sum += x, worst = std::max(worst, x);
+        hr.imbalance = sum > 0.0 ? worst / (sum / double(t.size())) : 1.0;
+        std::array<std::uint64_t, 1> links{links_.size()};
+        comm_->sum_in_place(links);
+        hr.links = links[0];
+        hr.bytes_received = comm_->bytes_received();
+        hr.checkpoints = checkpoints_;
+        hr.passes = state_.passes;
+        hr.link_seconds = compute_seconds_;
+    }
+
+    Hierarchy h_;
+    HierarchicalOptions o_;
+    SerialCommunicator serial_;
+    Communicator* comm_;
+    Partition partition_;
+    std::vector<std::uint64_t> cost_;  // per position of the cluster order, this pass
+    NodeValues<K> v_;
+    std::vector<Link> links_;
+    RefineRound round_;
+    SolveState state_;
+    std::vector<NodeId> split_log_;
+    double emitted_ = 0.0, q_rows_ = 1.0;
+    double compute_seconds_ = 0.0;  // judging and evaluating links, this rank
+    std::uint64_t hash_ = 0;
+    std::size_t checkpoints_ = 0;
+    bool stop_ = false;  // the progress callback asked to stop (acted on at the next safe point)
+    std::chrono::steady_clock::time_point last_checkpoint_;
+};
+
+template <std::size_t K>
+bool HierarchySolve<K>::resume(const std::string& file) {
+    // Rank 0 reads and checks the file; the others learn its verdict first, so a refused
+    // checkpoint ends every rank with the same message instead of leaving them waiting.
+    std::string error;
+    std::vector<SolveState> state;
+    std::vector<NodeId> splits;
+    std::vector<double> B, B_max;
+    std::vector<Link> done, frontier;
+    if (comm_->rank() == 0) try {
+            const CheckpointReader r(file, hash_);
+            state = {r.value<SolveState>(tag_state)};
+            splits = r.get<NodeId>(tag_splits);
+            B = r.get<double>(tag_B);
+            B_max = r.get<double>(tag_B_max);
+            done = r.get<Link>(tag_done);
+            frontier = r.get<Link>(tag_frontier);
+            // What only rank 0 can check (the others see the data after it): sizes and ids
+            // against the node count that replaying the splits will give.
+            const std::size_t nodes = h_.size() + 4 * splits.size();
+            if (B.size() != nodes * K || B_max.size() != nodes)
+                throw Error("checkpoint " + file + ": its radiosities do not fit its hierarchy");
+            for (const auto* links : {&done, &frontier})
+                for (const Link& l : *links)
+                    if (l.receiver >= nodes || l.source >= nodes)
+                        throw Error("checkpoint " + file + ": a link names a node it lacks");
+        } catch (const Error& e) {
+            error = e.what();
+        }
+    const std::vector<char> message =
+        all_gather(*comm_, std::vector<char>(error.begin(), error.end()));
+    if (!message.empty()) throw Error(std::string(message.begin(), message.end()));
+    state = all_gather(*comm_, state);
+    splits = all_gather(*comm_, splits);
+    B = all_gather(*comm_, B);
+    B_max = all_gather(*comm_, B_max);
+    const std::size_t before = h_.size();
+    for (const NodeId n : splits) {
+        if (n >= h_.size() || h_.is_cluster(n) || !h_.is_leaf(n))
+            throw Error("checkpoint " + file + ": its splits do not fit this scene's hierarchy");
+        split_element(h_, n);
+    }
+    extend_nodes(before);
+    split_log_ = std::move(splits);
+    v_.B = std::move(B);
+    v_.B_max = std::move(B_max);
+    state_ = state.at(0);
+    // Each link to the rank that owns its receiver.
+    const auto deal = [&](const std::vector<Link>& links) {
+        std::vector<std::vector<Link>> send(std::size_t(comm_->size()));
+        for (const Link& l : links)
+            send[std::size_t(partition_.owner(h_, l.receiver))].push_back(l);
+        return all_to_all(*comm_, send);
+    };
+    done = deal(done);
+    frontier = deal(frontier);
+    if (state_.iterating) {
+        std::sort(done.begin(), done.end(), [](const Link& a, const Link& b) {
+            return a.receiver < b.receiver || (a.receiver == b.receiver && a.source < b.source);
+        });
+        links_ = std::move(done);
+        return false;
+    }
+    round_.done = std::move(done);
+    round_.frontier = std::move(frontier);
+    round_.splits = state_.splits;
+    round_.settled = state_.settled;
+    round_.open = state_.open;
+    return true;
+}
+
+}  // namespace radiosity::detail
