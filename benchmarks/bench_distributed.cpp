@@ -15,12 +15,27 @@
 #include "support/tessellated_box.hpp"
 
 #include <sys/resource.h>
+#if defined(RADIOSITY_WITH_OPENMP)
+#include <omp.h>
+#endif
 
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
+
+namespace {
+
+int threads() {
+#if defined(RADIOSITY_WITH_OPENMP)
+    return omp_get_max_threads();
+#else
+    return 1;
+#endif
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     radiosity::MpiSession session(argc, argv);
@@ -58,14 +73,15 @@ int main(int argc, char** argv) {
     const auto& h = *r.hierarchy;
     if (std::getenv("BENCH_HEADER"))
         std::printf(
-            "| scene | ranks | solve s | refine s | link work s | gather s | exchange s | "
-            "push-pull s | sweeps | kB/sweep | MB received | imbalance | peak MB/rank | links "
-            "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+            "| scene | ranks | threads/rank | solve s | refine s | link work s | gather s | "
+            "exchange s | push-pull s | sweeps | kB/sweep | MB received | imbalance | peak MB/rank "
+            "| links "
+            "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     std::printf(
-        "| %s | %d | %.2f | %.2f | %.2f | %.2f | %.3f | %.2f | %zu | %.0f | %.1f | %.2f "
+        "| %s | %d | %d | %.2f | %.2f | %.2f | %.2f | %.3f | %.2f | %zu | %.0f | %.1f | %.2f "
         "| %.0f | %zu |\n",
-        what.c_str(), h.ranks, seconds, h.refine_seconds, h.link_seconds, h.gather_seconds,
-        h.exchange_seconds, h.push_pull_seconds, r.report.iterations,
+        what.c_str(), h.ranks, threads(), seconds, h.refine_seconds, h.link_seconds,
+        h.gather_seconds, h.exchange_seconds, h.push_pull_seconds, r.report.iterations,
         double(h.exchange_bytes_per_sweep) / 1e3, double(h.bytes_received) / 1e6, h.imbalance,
         peak[0], h.links);
     return 0;

@@ -36,25 +36,30 @@ class ReceiverExchange {
     std::array<double, controls> share(const std::vector<double>& mine, std::size_t width,
                                        std::vector<double>& per_node,
                                        const std::array<double, controls>& control) {
-        std::vector<double> message(mine);
+        // The buffers are kept from sweep to sweep: tens of MB at a million faces, which fresh
+        // allocations would fault in page by page every sweep.
+        std::vector<double>& message = message_;
+        message.assign(mine.begin(), mine.end());
         message.insert(message.end(), control.begin(), control.end());
-        std::vector<std::byte> all;
+        std::vector<std::byte>& all = all_;
         std::vector<std::size_t> bytes;
         const std::uint64_t before = comm_.bytes_received();
         comm_.allgather_bytes(detail::as_bytes_of(message), all, bytes);
         last_bytes_ = comm_.bytes_received() - before;
-        const std::vector<double> values = detail::values_of<double>(all);
+        // Read straight out of the received bytes: each rank's values, then its controls.
         std::array<double, controls> out{};
-        std::size_t at = 0, node = 0;
+        const std::byte* at = all.data();
+        std::size_t node = 0;
         for (std::size_t r = 0; r < bytes.size(); ++r) {
             const std::size_t n = counts_[r];
             RADIOSITY_ASSERT(bytes[r] == (n * width + controls) * sizeof(double));
-            for (std::size_t i = 0; i < n; ++i, ++node)
-                std::copy_n(values.begin() + std::ptrdiff_t(at + i * width), width,
-                            per_node.begin() + std::ptrdiff_t(receivers_[node] * width));
-            at += n * width;
-            for (std::size_t k = 0; k < controls; ++k) out[k] = std::max(out[k], values[at + k]);
-            at += controls;
+            for (std::size_t i = 0; i < n; ++i, ++node, at += width * sizeof(double))
+                std::memcpy(per_node.data() + receivers_[node] * width, at, width * sizeof(double));
+            for (std::size_t k = 0; k < controls; ++k, at += sizeof(double)) {
+                double c = 0.0;
+                std::memcpy(&c, at, sizeof c);
+                out[k] = std::max(out[k], c);
+            }
         }
         return out;
     }
@@ -69,6 +74,8 @@ class ReceiverExchange {
     std::vector<NodeId> receivers_;    // every rank's, in rank order
     std::vector<std::size_t> counts_;  // per rank
     std::uint64_t last_bytes_ = 0;
+    std::vector<double> message_;  // this rank's values and controls
+    std::vector<std::byte> all_;   // every rank's
 };
 
 }  // namespace radiosity

@@ -290,11 +290,13 @@ class HierarchySolve {
             gather_links(links_, groups, v_);
             hr.gather_seconds += seconds_since(t);
             t = std::chrono::steady_clock::now();
-            for (std::size_t g = 0; g < groups.receivers.size(); ++g)
-                for (std::size_t k = 0; k < K; ++k)
-                    mine[g * K + k] = v_.H[groups.receivers[g] * K + k];
-            const auto control =
-                exchange.share(mine, K, v_.H, {checkpoint_due(), stop_ ? 1.0 : 0.0});
+            std::array<double, 2> control{checkpoint_due(), stop_ ? 1.0 : 0.0};
+            if (comm_->size() > 1) {  // one process has every receiver's H already
+                for (std::size_t g = 0; g < groups.receivers.size(); ++g)
+                    for (std::size_t k = 0; k < K; ++k)
+                        mine[g * K + k] = v_.H[groups.receivers[g] * K + k];
+                control = exchange.share(mine, K, v_.H, control);
+            }
             hr.exchange_seconds += seconds_since(t);
             hr.exchange_bytes_per_sweep = exchange.last_bytes();
             t = std::chrono::steady_clock::now();
