@@ -46,6 +46,10 @@ struct SolveState {
     double first = 0.0;                                         ///< first sweep's bound
     std::array<double, 3> ratio{1.0, 1.0, 1.0};       ///< the last three observed contractions
     std::uint64_t splits = 0, settled = 0, open = 0;  ///< RefineRound's counts
+    std::uint32_t sweeps_done = 0;                    ///< 1: this pass's sweeps have met their rule
+    std::uint32_t converged = 0;                      ///< the last sweep's Report::converged
+    double residual = 0.0;                            ///< the last sweep's Report::residual
+    double error_bound = std::numeric_limits<double>::infinity();  ///< and its error bound
 };
 
 /// Tags of a checkpoint's sections.
@@ -129,6 +133,9 @@ class HierarchySolve {
         if (!o_.checkpoint.resume.empty()) {
             resumed_in_refinement = resume(o_.checkpoint.resume);
             hr.resumed = true;
+            report.converged = state_.converged != 0;
+            report.residual = state_.residual;
+            report.error_bound = state_.error_bound;
         } else if (h_.size() > 1 && partition_.owner(h_, 0) == comm_->rank()) {
             links_.push_back({0, 0, 0.0f, 1.0f});  // the top cluster's self-link
         }
@@ -150,8 +157,9 @@ class HierarchySolve {
                 state_ = next_sweeps(state_);
             }
             const auto t0 = std::chrono::steady_clock::now();
-            iterate(final ? tolerance : std::max(tolerance, 1e-2), max_iterations, progress, report,
-                    hr);
+            if (!state_.sweeps_done)  // (a checkpoint taken after the pass's last sweep)
+                iterate(final ? tolerance : std::max(tolerance, 1e-2), max_iterations, progress,
+                        report, hr);
             hr.solve_seconds += seconds_since(t0);
             if (report.cancelled) break;
             if (final && state_.splits == 0) break;
@@ -206,6 +214,7 @@ class HierarchySolve {
     /// The state at the start of a pass's sweeps.
     static SolveState next_sweeps(SolveState st) {
         st.iterating = 1;
+        st.sweeps_done = 0;
         st.sweep = 0;
         st.passes += 1;
         st.previous = std::numeric_limits<double>::infinity();
@@ -302,12 +311,18 @@ class HierarchySolve {
             t = std::chrono::steady_clock::now();
             const double change = push_pull(h_, v_, total);
             hr.push_pull_seconds += seconds_since(t);
-            if (sweep_done(change, tolerance, cap, progress, report)) return;
+            const bool done = sweep_done(change, tolerance, cap, progress, report);
+            // One process decides after the sweep (a stop beats convergence, as in the other
+            // solvers); several ranks on the words exchanged before it, alike on every rank. A
+            // checkpoint taken after the pass's last sweep says so (sweeps_done), so that a
+            // resumed run goes on to the next pass as this one would.
+            if (comm_->size() == 1) control = {checkpoint_due(), stop_ ? 1.0 : 0.0};
             if (control[0] > 0.0 || (control[1] > 0.0 && !o_.checkpoint.file.empty())) save();
             if (control[1] > 0.0) {
                 report.cancelled = true;
                 return;
             }
+            if (done) return;
         }
     }
 
@@ -327,12 +342,18 @@ class HierarchySolve {
         report.residual = size > 0.0 ? change / size : change;
         report.error_bound = rule.bound(change, size);
         report.converged = rule.met(report.error_bound);
+        st.converged = report.converged ? 1 : 0;
+        st.residual = report.residual;
+        st.error_bound = report.error_bound;
         if (it == 0) st.first = report.error_bound;
         report.iterations = st.sweeps;
         Progress pr{"solve", rule.fraction(st.first, report.error_bound), report.residual,
                     report.iterations};
         if (!detail::report(progress, pr)) stop_ = true;
-        return report.converged || it + 1 >= std::min<std::size_t>(rule.max_iterations, 1000);
+        const bool done =
+            report.converged || it + 1 >= std::min<std::size_t>(rule.max_iterations, 1000);
+        st.sweeps_done = done ? 1 : 0;
+        return done;
     }
 
     /// Writes a checkpoint: every rank's links gathered at rank 0, which writes the file.
