@@ -6,9 +6,10 @@
 //
 // Columns, from rank 0 (times are wall seconds on rank 0 unless said): ranks; the whole solve;
 // refinement, and of it the link work (judging and evaluating this rank's links: the part that
-// divides among ranks); gather (this rank's links), exchange (the per-sweep all-gather) and
-// push-pull (every rank alike); sweeps; bytes rank 0 received per sweep and in all; the load
-// imbalance (the busiest rank's link work over the mean); peak memory of the largest rank.
+// divides among ranks) and the wait (inside the rounds' collectives); gather (this rank's links),
+// exchange (the per-sweep all-gather) and push-pull (every rank alike); sweeps; bytes rank 0
+// received per sweep and in all; the load imbalance (the busiest rank's link work over the mean);
+// peak memory of the largest rank.
 #include <radiosity/distributed/mpi.hpp>
 #include <radiosity/radiosity.hpp>
 
@@ -73,16 +74,18 @@ int main(int argc, char** argv) {
     const auto& h = *r.hierarchy;
     if (std::getenv("BENCH_HEADER"))
         std::printf(
-            "| scene | ranks | threads/rank | solve s | refine s | link work s | gather s | "
+            "| scene | ranks | threads/rank | solve s | refine s | link work s | refine wait s | "
+            "gather s | "
             "exchange s | push-pull s | sweeps | kB/sweep | MB received | imbalance | peak MB/rank "
             "| links "
-            "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+            "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     std::printf(
-        "| %s | %d | %d | %.2f | %.2f | %.2f | %.2f | %.3f | %.2f | %zu | %.0f | %.1f | %.2f "
+        "| %s | %d | %d | %.2f | %.2f | %.2f | %.2f | %.2f | %.3f | %.2f | %zu | %.0f | %.1f | "
+        "%.2f "
         "| %.0f | %zu |\n",
         what.c_str(), h.ranks, threads(), seconds, h.refine_seconds, h.link_seconds,
-        h.gather_seconds, h.exchange_seconds, h.push_pull_seconds, r.report.iterations,
-        double(h.exchange_bytes_per_sweep) / 1e3, double(h.bytes_received) / 1e6, h.imbalance,
-        peak[0], h.links);
+        h.refine_wait_seconds, h.gather_seconds, h.exchange_seconds, h.push_pull_seconds,
+        r.report.iterations, double(h.exchange_bytes_per_sweep) / 1e3,
+        double(h.bytes_received) / 1e6, h.imbalance, peak[0], h.links);
     return 0;
 }

@@ -229,11 +229,12 @@ void print_summary(const radiosity::SolveResult<Colour>& r, const std::string& f
         if (h.ranks > 1)
             std::fprintf(stderr,
                          "%d ranks: rank 0 judged and evaluated links %.2f s of the refinement's "
-                         "%.2f s; load imbalance %.2f (the busiest rank's link work over the "
-                         "mean); exchange %.2f s, %.0f kB per sweep; rank 0 received %.1f MB in "
-                         "all\n",
-                         h.ranks, h.link_seconds, h.refine_seconds, h.imbalance, h.exchange_seconds,
-                         double(h.exchange_bytes_per_sweep) / 1e3, double(h.bytes_received) / 1e6);
+                         "%.2f s (waited %.2f s on the others); load imbalance %.2f (the busiest "
+                         "rank's link work over the mean); exchange %.2f s, %.0f kB per sweep; "
+                         "rank 0 received %.1f MB in all\n",
+                         h.ranks, h.link_seconds, h.refine_seconds, h.refine_wait_seconds,
+                         h.imbalance, h.exchange_seconds, double(h.exchange_bytes_per_sweep) / 1e3,
+                         double(h.bytes_received) / 1e6);
         return;
     }
     std::fprintf(stderr,

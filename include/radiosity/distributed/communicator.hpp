@@ -29,9 +29,9 @@ class Communicator {
     virtual void allgather_bytes(std::span<const std::byte> mine, std::vector<std::byte>& all,
                                  std::vector<std::size_t>& counts) = 0;
     /// send[r] goes to rank r; returns what each rank sent to this one, concatenated in rank
-    /// order.
-    virtual std::vector<std::byte> alltoall_bytes(
-        const std::vector<std::vector<std::byte>>& send) = 0;
+    /// order; counts[r]: the bytes from rank r.
+    virtual std::vector<std::byte> alltoall_bytes(const std::vector<std::vector<std::byte>>& send,
+                                                  std::vector<std::size_t>& counts) = 0;
     /// Every rank's `mine` concatenated in rank order at rank 0 (empty elsewhere).
     virtual std::vector<std::byte> gather_bytes(std::span<const std::byte> mine) = 0;
     /// Element-wise maximum over the ranks, in place.
@@ -41,9 +41,13 @@ class Communicator {
 
     /// Bytes this rank has received from the other ranks so far.
     std::uint64_t bytes_received() const { return received_; }
+    /// Seconds this rank has spent inside collectives so far: mostly waiting for the slowest
+    /// rank to arrive (what the load imbalance of each step between two collectives costs).
+    double collective_seconds() const { return seconds_; }
 
   protected:
     std::uint64_t received_ = 0;  ///< updated by the implementations
+    double seconds_ = 0.0;        ///< updated by the implementations
 };
 
 /// One process: every collective is the identity.
@@ -56,8 +60,9 @@ class SerialCommunicator final : public Communicator {
         all.assign(mine.begin(), mine.end());
         counts.assign(1, mine.size());
     }
-    std::vector<std::byte> alltoall_bytes(
-        const std::vector<std::vector<std::byte>>& send) override {
+    std::vector<std::byte> alltoall_bytes(const std::vector<std::vector<std::byte>>& send,
+                                          std::vector<std::size_t>& counts) override {
+        counts.assign(1, send.at(0).size());
         return send.at(0);
     }
     std::vector<std::byte> gather_bytes(std::span<const std::byte> mine) override {
@@ -97,15 +102,23 @@ std::vector<T> all_gather(Communicator& c, const std::vector<T>& mine) {
     return detail::values_of<T>(all);
 }
 
-/// Alltoallv of typed values: send[r] to rank r; what came to this rank, in rank order.
+/// Alltoallv of typed values: send[r] to rank r; what came to this rank, in rank order; `from`,
+/// if given, receives how many values came from each rank.
 template <class T>
-std::vector<T> all_to_all(Communicator& c, const std::vector<std::vector<T>>& send) {
+std::vector<T> all_to_all(Communicator& c, const std::vector<std::vector<T>>& send,
+                          std::vector<std::size_t>* from = nullptr) {
     std::vector<std::vector<std::byte>> bytes(send.size());
     for (std::size_t r = 0; r < send.size(); ++r) {
         const auto b = detail::as_bytes_of(send[r]);
         bytes[r].assign(b.begin(), b.end());
     }
-    return detail::values_of<T>(c.alltoall_bytes(bytes));
+    std::vector<std::size_t> counts;
+    std::vector<T> out = detail::values_of<T>(c.alltoall_bytes(bytes, counts));
+    if (from) {
+        from->resize(counts.size());
+        for (std::size_t r = 0; r < counts.size(); ++r) (*from)[r] = counts[r] / sizeof(T);
+    }
+    return out;
 }
 
 /// Gatherv of typed values to rank 0, in rank order (empty on the other ranks).

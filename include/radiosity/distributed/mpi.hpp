@@ -11,6 +11,7 @@
 
 #include <mpi.h>
 
+#include <chrono>
 #include <climits>
 #include <cstdlib>
 #include <string>
@@ -32,6 +33,7 @@ class MpiCommunicator final : public Communicator {
 
     void allgather_bytes(std::span<const std::byte> mine, std::vector<std::byte>& all,
                          std::vector<std::size_t>& counts) override {
+        const Timer timer(seconds_);
         const int n = count_of(mine.size());
         std::vector<int> c(nranks()), at(nranks());
         MPI_Allgather(&n, 1, MPI_INT, c.data(), 1, MPI_INT, comm_);
@@ -42,8 +44,9 @@ class MpiCommunicator final : public Communicator {
         received_ += total - mine.size();
     }
 
-    std::vector<std::byte> alltoall_bytes(
-        const std::vector<std::vector<std::byte>>& send) override {
+    std::vector<std::byte> alltoall_bytes(const std::vector<std::vector<std::byte>>& send,
+                                          std::vector<std::size_t>& counts) override {
+        const Timer timer(seconds_);
         RADIOSITY_ASSERT(send.size() == std::size_t(size_));
         std::vector<int> sc(nranks()), sa(nranks()), rc(nranks()), ra(nranks());
         std::vector<std::byte> flat;
@@ -57,10 +60,12 @@ class MpiCommunicator final : public Communicator {
         MPI_Alltoallv(flat.data(), sc.data(), sa.data(), MPI_BYTE, out.data(), rc.data(), ra.data(),
                       MPI_BYTE, comm_);
         received_ += out.size() - std::size_t(rc[std::size_t(rank_)]);
+        counts.assign(rc.begin(), rc.end());
         return out;
     }
 
     std::vector<std::byte> gather_bytes(std::span<const std::byte> mine) override {
+        const Timer timer(seconds_);
         const int n = count_of(mine.size());
         std::vector<int> c(nranks()), at(nranks());
         MPI_Gather(&n, 1, MPI_INT, c.data(), 1, MPI_INT, 0, comm_);
@@ -72,15 +77,28 @@ class MpiCommunicator final : public Communicator {
     }
 
     void max_in_place(std::span<double> v) override {
+        const Timer timer(seconds_);
         MPI_Allreduce(MPI_IN_PLACE, v.data(), count_of(v.size()), MPI_DOUBLE, MPI_MAX, comm_);
         received_ += v.size_bytes() * std::size_t(size_ > 1);
     }
     void sum_in_place(std::span<std::uint64_t> v) override {
+        const Timer timer(seconds_);
         MPI_Allreduce(MPI_IN_PLACE, v.data(), count_of(v.size()), MPI_UINT64_T, MPI_SUM, comm_);
         received_ += v.size_bytes() * std::size_t(size_ > 1);
     }
 
   private:
+    /// Adds the time from its making to its end to a total (each collective's time).
+    struct Timer {
+        explicit Timer(double& total) : total_(total) {}
+        ~Timer() {
+            total_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count();
+        }
+        Timer(const Timer&) = delete;
+        Timer& operator=(const Timer&) = delete;
+        double& total_;
+        std::chrono::steady_clock::time_point t0_ = std::chrono::steady_clock::now();
+    };
     std::size_t nranks() const { return std::size_t(size_); }
     /// MPI counts are ints: a message over 2 GiB is refused rather than truncated.
     static int count_of(std::size_t n) {

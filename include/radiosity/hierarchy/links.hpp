@@ -32,6 +32,12 @@ struct Link {
 };
 static_assert(sizeof(Link) == 16);
 
+/// The order of a rank's links for every gather: by receiver, then source (a strict weak
+/// order; links are unique per pair, so the sorted order never depends on where they came from).
+inline bool link_order(const Link& a, const Link& b) {
+    return a.receiver < b.receiver || (a.receiver == b.receiver && a.source < b.source);
+}
+
 /// A link's transfer coefficient and how far it can be trusted.
 struct Transfer {
     double coefficient = 0.0;  ///< T_rs, unoccluded irradiance at r per unit B_s

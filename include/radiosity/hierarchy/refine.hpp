@@ -6,8 +6,9 @@
 /// the threshold is replaced by links of the children of its larger node; it stays where
 /// neither can be split (an element at the minimum area). Breadth first, links judged in
 /// parallel and elements split in increasing id order, so the hierarchy never depends on the
-/// number of threads or ranks; with several ranks each judges and evaluates the links of the
-/// receivers it owns (distributed/partition.hpp) and every rank splits alike.
+/// number of threads or ranks; with several ranks each judges the links of the receivers it
+/// owns (distributed/partition.hpp), every rank splits alike, and the new links of each round
+/// are evaluated in equal shares of rays by all ranks.
 
 #include <radiosity/concepts.hpp>
 #include <radiosity/detail/parallel.hpp>
@@ -209,10 +210,93 @@ struct SharedSplit {
     std::uint32_t verdict;
 };
 
+/// The work of evaluating a link, in rays: a cluster's sample pairs or an element pair's rays,
+/// plus one for its transfer.
+inline std::uint64_t evaluation_cost(const Hierarchy& h, NodeId r, NodeId src,
+                                     const RefineSettings& s) {
+    return std::uint64_t(1 + (h.is_cluster(r) || h.is_cluster(src) ? s.cluster_samples : s.rays));
+}
+
+/// Evaluates pairs (evaluate_link) with this rank's threads: the plain loop.
+template <Visibility V>
+std::vector<Link> evaluate_pairs(const Hierarchy& h, const V& scene,
+                                 const std::vector<std::pair<NodeId, NodeId>>& pairs,
+                                 const RefineSettings& s) {
+    std::vector<Link> links(pairs.size());
+    const auto n = static_cast<std::int64_t>(pairs.size());
+#if defined(RADIOSITY_WITH_OPENMP)
+#pragma omp parallel for schedule(dynamic, 64)
+#endif
+    for (std::int64_t i = 0; i < n; ++i) {
+        const auto [r, src] = pairs[std::size_t(i)];
+        links[std::size_t(i)] = evaluate_link(h, scene, r, src, s);
+    }
+    return links;
+}
+
+/// Evaluates this rank's new links with the work of the round shared evenly among the ranks:
+/// what each rank made is one piece of a list in rank order, which is cut into equal shares of
+/// rays (evaluation_cost); each rank evaluates its share and sends the links back to the ranks
+/// that made them (two all-to-alls, the pairs there and the links back, in the order sent).
+/// Without it, a rank whose receivers made more of the round's links than its share keeps the
+/// others waiting at the round's end. A link is a function of its pair alone (its rays are
+/// seeded from the pair), so it has the same bits whichever rank evaluates it.
+template <Visibility V>
+std::vector<Link> evaluate_shared(const Hierarchy& h, const V& scene,
+                                  const std::vector<std::pair<NodeId, NodeId>>& fresh,
+                                  const RefineSettings& s, RefineShare& share) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto elapsed = [&] {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    };
+    Communicator& comm = share.comm;
+    if (comm.size() == 1) {
+        std::vector<Link> links = evaluate_pairs(h, scene, fresh, s);
+        share.compute_seconds += elapsed();
+        return links;
+    }
+    // Where this rank's pairs start in the list of every rank's, counted in rays.
+    std::uint64_t mine = 0;
+    for (const auto& [r, src] : fresh) mine += evaluation_cost(h, r, src, s);
+    const std::vector<std::uint64_t> work = all_gather(comm, std::vector<std::uint64_t>{mine});
+    std::uint64_t at = 0, total = 0;
+    for (std::size_t q = 0; q < work.size(); ++q) {
+        if (q < std::size_t(comm.rank())) at += work[q];
+        total += work[q];
+    }
+    // A pair goes to the rank whose share holds its first ray: rank floor(at P / total).
+    struct Pair {  // what travels (std::pair is not trivially copyable)
+        NodeId receiver, source;
+    };
+    const auto ranks = std::uint64_t(comm.size());
+    std::vector<std::vector<Pair>> send(ranks);
+    for (const auto& [r, src] : fresh) {
+        send[std::min(ranks - 1, at * ranks / std::max<std::uint64_t>(total, 1))].push_back(
+            {r, src});
+        at += evaluation_cost(h, r, src, s);
+    }
+    std::vector<std::size_t> from;
+    const std::vector<Pair> came = all_to_all(comm, send, &from);
+    std::vector<std::pair<NodeId, NodeId>> pairs(came.size());
+    for (std::size_t k = 0; k < came.size(); ++k) pairs[k] = {came[k].receiver, came[k].source};
+    const auto t1 = std::chrono::steady_clock::now();
+    const std::vector<Link> links = evaluate_pairs(h, scene, pairs, s);
+    share.compute_seconds +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+    // Back to the ranks that made them, each in the order it sent them.
+    std::vector<std::vector<Link>> back(ranks);
+    std::size_t i = 0;
+    for (std::size_t q = 0; q < ranks; ++q)
+        for (std::size_t k = 0; k < from[q]; ++k) back[q].push_back(links[i++]);
+    return all_to_all(comm, back);
+}
+
 /// One round of a pass: judge this rank's frontier; split, on every rank alike and in
 /// increasing id order, every element that any rank's verdicts split (so node ids never depend
 /// on the ranks or threads); carry out the verdicts; evaluate the new links of this rank's
-/// receivers. Two all-gathers (the splits, the links that cross ranks) and one reduction.
+/// receivers, the round's evaluations shared evenly among the ranks (evaluate_shared). Three
+/// all-gathers (the splits, the links that cross ranks, the work), two all-to-alls and one
+/// reduction.
 template <Visibility V>
 void refine_round(Hierarchy& h, const V& scene, RefineRound& round, const RefineSettings& s,
                   const OracleInputs& in, const NodesAdded& on_nodes, RefineShare& share) {
@@ -231,11 +315,12 @@ void refine_round(Hierarchy& h, const V& scene, RefineRound& round, const Refine
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::vector<NodeId> to_split;
     std::vector<SharedSplit> shared;
+    std::vector<bool> crosses(frontier.size(), false);  // per link, used again below
     for (std::size_t i = 0; i < frontier.size(); ++i) {
         if (const NodeId n = node_to_split(h, frontier[i], verdict[i]); n != no_node)
             to_split.push_back(n);
-        if (crosses_ranks(h, frontier[i], verdict[i], owner))
-            shared.push_back({frontier[i], std::uint32_t(verdict[i])});
+        crosses[i] = crosses_ranks(h, frontier[i], verdict[i], owner);
+        if (crosses[i]) shared.push_back({frontier[i], std::uint32_t(verdict[i])});
     }
     to_split = all_gather(share.comm, to_split);
     std::sort(to_split.begin(), to_split.end());
@@ -252,26 +337,14 @@ void refine_round(Hierarchy& h, const V& scene, RefineRound& round, const Refine
     const auto anything = [](NodeId) { return true; };
     const auto ours = [&](NodeId n) { return owner(n) == me; };
     for (std::size_t i = 0; i < frontier.size(); ++i)
-        if (!crosses_ranks(h, frontier[i], verdict[i], owner))
+        if (!crosses[i])
             splits += apply_verdict(h, frontier[i], verdict[i], round.done, fresh, anything);
     std::vector<Link> unused;
     for (const SharedSplit& x : shared)  // every rank's, each rank taking its receivers
         apply_verdict(h, x.link, Verdict(x.verdict), unused, fresh, ours);
-    frontier.assign(fresh.size(), Link{});
-    t0 = std::chrono::steady_clock::now();
-    const auto n_fresh = static_cast<std::int64_t>(fresh.size());
-#if defined(RADIOSITY_WITH_OPENMP)
-#pragma omp parallel for schedule(dynamic, 64)
-#endif
-    for (std::int64_t i = 0; i < n_fresh; ++i) {
-        const auto [r, src] = fresh[std::size_t(i)];
-        frontier[std::size_t(i)] = evaluate_link(h, scene, r, src, s);
-    }
-    share.compute_seconds +=
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    frontier = evaluate_shared(h, scene, fresh, s, share);
     for (const auto& [r, src] : fresh)  // the work, where the next partition will weigh it
-        share.cost[h.member_begin[r]] +=
-            std::uint64_t(1 + (h.is_cluster(r) || h.is_cluster(src) ? s.cluster_samples : s.rays));
+        share.cost[h.member_begin[r]] += evaluation_cost(h, r, src, s);
     std::erase_if(frontier, [](const Link& l) { return l.visibility < 0.0f; });
     std::array<std::uint64_t, 3> totals{splits, frontier.size(), round.done.size()};
     share.comm.sum_in_place(totals);
@@ -297,9 +370,7 @@ void refine_links(Hierarchy& h, const V& scene, RefineRound& round, const Refine
         detail::refine_round(h, scene, round, s, inputs(), on_nodes, share);
         if (round_done && !round_done(round)) throw Cancelled();
     }
-    std::sort(round.done.begin(), round.done.end(), [](const Link& a, const Link& b) {
-        return a.receiver < b.receiver || (a.receiver == b.receiver && a.source < b.source);
-    });
+    std::sort(round.done.begin(), round.done.end(), link_order);
 }
 
 }  // namespace radiosity

@@ -147,9 +147,11 @@ class HierarchySolve {
                           std::pow(4.0, final ? 0 : o_.coarse_passes - int(state_.pass));
             if (!state_.iterating) {
                 const auto t0 = std::chrono::steady_clock::now();
+                const double waited = comm_->collective_seconds();
                 if (!resumed_in_refinement) begin_pass();
                 resumed_in_refinement = false;
                 refine(scene, s, progress);
+                hr.refine_wait_seconds += comm_->collective_seconds() - waited;
                 links_ = std::move(round_.done);
                 state_.splits = round_.splits;
                 round_ = RefineRound{};
@@ -291,7 +293,8 @@ class HierarchySolve {
                  Report& report, HierarchyReport& hr) {
         const LinkGroups groups = group_links(links_);
         ReceiverExchange exchange(*comm_, groups);
-        std::vector<double> row(h_.size(), 0.0), total, mine(groups.receivers.size() * K);
+        std::vector<double> row(h_.size(), 0.0), total, mine;
+        if (comm_->size() > 1) mine.resize(groups.receivers.size() * K);  // the exchange's
         exchange.share(link_rows(links_, groups), 1, row, {});
         q_rows_ = hierarchy_contraction(h_, std::move(row), v_);
         for (;;) {
@@ -478,9 +481,7 @@ bool HierarchySolve<K>::resume(const std::string& file) {
     done = deal(done);
     frontier = deal(frontier);
     if (state_.iterating) {
-        std::sort(done.begin(), done.end(), [](const Link& a, const Link& b) {
-            return a.receiver < b.receiver || (a.receiver == b.receiver && a.source < b.source);
-        });
+        std::sort(done.begin(), done.end(), link_order);
         links_ = std::move(done);
         return false;
     }
