@@ -57,8 +57,8 @@ struct HierarchyReport {
     /// Of refine_seconds: judging and evaluating this rank's links (the rest: splitting, the
     /// exchanges of a round and waiting on the other ranks).
     double link_seconds = 0.0;
-    /// Of refine_seconds: inside the rounds' collectives, mostly waiting for the slowest rank
-    /// (0 on one rank).
+    /// Of refine_seconds: inside the collectives of the refinement (its rounds', the
+    /// re-partition's, a checkpoint's), mostly waiting for the slowest rank (0 on one rank).
     double refine_wait_seconds = 0.0;
     double solve_seconds = 0.0;      ///< time spent gathering, exchanging and pushing-pulling
     double gather_seconds = 0.0;     ///< of solve_seconds: gathering over this rank's links

@@ -47,6 +47,17 @@ struct RefineSettings {
 
 namespace detail {
 
+/// Seconds since t0 (wall clock).
+inline double seconds_since(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// A link to be made: its receiver and source (trivially copyable, so it can travel between
+/// ranks as it is).
+struct NodePair {
+    NodeId receiver, source;
+};
+
 /// Whether node n may be split: a cluster always; an element if its children keep at least the
 /// minimum area and it is above the deepest level.
 inline bool splittable(const Hierarchy& h, NodeId n, const RefineSettings& s) {
@@ -103,7 +114,7 @@ inline NodeId node_to_split(const Hierarchy& h, const Link& l, Verdict v) {
 /// accepts. Returns whether the link was split.
 template <class Mine>
 bool apply_verdict(const Hierarchy& h, const Link& l, Verdict v, std::vector<Link>& done,
-                   std::vector<std::pair<NodeId, NodeId>>& fresh, const Mine& mine) {
+                   std::vector<NodePair>& fresh, const Mine& mine) {
     const auto children = [&](NodeId n) {
         RADIOSITY_ASSERT(!h.is_leaf(n));
         return std::pair<NodeId, NodeId>{h.first_child[n], h.first_child[n] + h.child_count[n]};
@@ -220,8 +231,7 @@ inline std::uint64_t evaluation_cost(const Hierarchy& h, NodeId r, NodeId src,
 /// Evaluates pairs (evaluate_link) with this rank's threads: the plain loop.
 template <Visibility V>
 std::vector<Link> evaluate_pairs(const Hierarchy& h, const V& scene,
-                                 const std::vector<std::pair<NodeId, NodeId>>& pairs,
-                                 const RefineSettings& s) {
+                                 const std::vector<NodePair>& pairs, const RefineSettings& s) {
     std::vector<Link> links(pairs.size());
     const auto n = static_cast<std::int64_t>(pairs.size());
 #if defined(RADIOSITY_WITH_OPENMP)
@@ -243,16 +253,13 @@ std::vector<Link> evaluate_pairs(const Hierarchy& h, const V& scene,
 /// seeded from the pair), so it has the same bits whichever rank evaluates it.
 template <Visibility V>
 std::vector<Link> evaluate_shared(const Hierarchy& h, const V& scene,
-                                  const std::vector<std::pair<NodeId, NodeId>>& fresh,
-                                  const RefineSettings& s, RefineShare& share) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const auto elapsed = [&] {
-        return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    };
+                                  const std::vector<NodePair>& fresh, const RefineSettings& s,
+                                  RefineShare& share) {
     Communicator& comm = share.comm;
     if (comm.size() == 1) {
+        const auto t0 = std::chrono::steady_clock::now();
         std::vector<Link> links = evaluate_pairs(h, scene, fresh, s);
-        share.compute_seconds += elapsed();
+        share.compute_seconds += seconds_since(t0);
         return links;
     }
     // Where this rank's pairs start in the list of every rank's, counted in rays.
@@ -265,29 +272,22 @@ std::vector<Link> evaluate_shared(const Hierarchy& h, const V& scene,
         total += work[q];
     }
     // A pair goes to the rank whose share holds its first ray: rank floor(at P / total).
-    struct Pair {  // what travels (std::pair is not trivially copyable)
-        NodeId receiver, source;
-    };
     const auto ranks = std::uint64_t(comm.size());
-    std::vector<std::vector<Pair>> send(ranks);
-    for (const auto& [r, src] : fresh) {
-        send[std::min(ranks - 1, at * ranks / std::max<std::uint64_t>(total, 1))].push_back(
-            {r, src});
-        at += evaluation_cost(h, r, src, s);
+    std::vector<std::vector<NodePair>> send(ranks);
+    for (const NodePair& p : fresh) {
+        send[std::min(ranks - 1, at * ranks / std::max<std::uint64_t>(total, 1))].push_back(p);
+        at += evaluation_cost(h, p.receiver, p.source, s);
     }
     std::vector<std::size_t> from;
-    const std::vector<Pair> came = all_to_all(comm, send, &from);
-    std::vector<std::pair<NodeId, NodeId>> pairs(came.size());
-    for (std::size_t k = 0; k < came.size(); ++k) pairs[k] = {came[k].receiver, came[k].source};
-    const auto t1 = std::chrono::steady_clock::now();
+    const std::vector<NodePair> pairs = all_to_all(comm, send, &from);
+    const auto t0 = std::chrono::steady_clock::now();
     const std::vector<Link> links = evaluate_pairs(h, scene, pairs, s);
-    share.compute_seconds +=
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+    share.compute_seconds += seconds_since(t0);
     // Back to the ranks that made them, each in the order it sent them.
     std::vector<std::vector<Link>> back(ranks);
-    std::size_t i = 0;
-    for (std::size_t q = 0; q < ranks; ++q)
-        for (std::size_t k = 0; k < from[q]; ++k) back[q].push_back(links[i++]);
+    for (std::size_t q = 0, k = 0; q < ranks; k += from[q], ++q)
+        back[q].assign(links.begin() + std::ptrdiff_t(k),
+                       links.begin() + std::ptrdiff_t(k + from[q]));
     return all_to_all(comm, back);
 }
 
@@ -304,15 +304,14 @@ void refine_round(Hierarchy& h, const V& scene, RefineRound& round, const Refine
     const auto owner = [&](NodeId n) { return share.partition.owner(h, n); };
     std::vector<Link>& frontier = round.frontier;
     std::vector<Verdict> verdict(frontier.size(), Verdict::keep);
-    auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = std::chrono::steady_clock::now();
     const auto count = static_cast<std::int64_t>(frontier.size());
 #if defined(RADIOSITY_WITH_OPENMP)
 #pragma omp parallel for schedule(dynamic, 256)
 #endif
     for (std::int64_t i = 0; i < count; ++i)
         verdict[std::size_t(i)] = judge(h, frontier[std::size_t(i)], in, s);
-    share.compute_seconds +=
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    share.compute_seconds += seconds_since(t0);
     std::vector<NodeId> to_split;
     std::vector<SharedSplit> shared;
     std::vector<bool> crosses(frontier.size(), false);  // per link, used again below
@@ -332,7 +331,7 @@ void refine_round(Hierarchy& h, const V& scene, RefineRound& round, const Refine
     }
     if (h.size() > before) on_nodes(before);
     shared = all_gather(share.comm, shared);
-    std::vector<std::pair<NodeId, NodeId>> fresh;
+    std::vector<NodePair> fresh;
     std::uint64_t splits = 0;
     const auto anything = [](NodeId) { return true; };
     const auto ours = [&](NodeId n) { return owner(n) == me; };

@@ -30,11 +30,6 @@
 
 namespace radiosity::detail {
 
-/// Seconds since t0 (wall clock).
-inline double seconds_since(std::chrono::steady_clock::time_point t0) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
 /// Where a solve stands besides its nodes, B and links: the rest of what a checkpoint holds.
 struct SolveState {
     std::uint32_t pass = 0;       ///< multigrid pass
