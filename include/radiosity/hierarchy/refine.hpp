@@ -6,9 +6,10 @@
 /// the threshold is replaced by links of the children of its larger node; it stays where
 /// neither can be split (an element at the minimum area). Breadth first, links judged in
 /// parallel and elements split in increasing id order, so the hierarchy never depends on the
-/// number of threads or ranks; with several ranks each judges the links of the receivers it
-/// owns (distributed/partition.hpp), every rank splits alike, and the new links of each round
-/// are evaluated in equal shares of rays by all ranks.
+/// number of threads or ranks. A new link is judged on its unoccluded transfer alone; its rays
+/// are cast only once the oracle keeps it. With several ranks each judges the links of the
+/// receivers it owns (distributed/partition.hpp), every rank splits alike, and each round's
+/// transfers and rays are shared out in equal shares of rays among all ranks.
 
 #include <radiosity/concepts.hpp>
 #include <radiosity/detail/parallel.hpp>
@@ -159,29 +160,47 @@ bool crosses_ranks(const Hierarchy& h, const Link& l, Verdict v, const Owner& ow
 
 }  // namespace detail
 
-/// Evaluates a new link: its transfer and, if it carries anything, its visibility (between
-/// elements: the analytic coefficient and link_visibility; with a cluster: sampled_transfer).
-/// A link between nodes that exchange nothing comes back with visibility -1, to be dropped.
-template <Visibility V>
-Link evaluate_link(const Hierarchy& h, const V& scene, NodeId r, NodeId s,
-                   const RefineSettings& settings) {
-    if (r == s) return {r, s, 0.0f, 1.0f};
+/// The visibility of a link whose rays are not cast yet: a new link is judged on its unoccluded
+/// transfer alone, so its rays (and a cluster link's samples) wait until the oracle keeps it;
+/// a link split at once never casts any.
+inline constexpr float unsampled = 2.0f;
+
+/// The visibility of a pair whose transfer is not computed yet (what a round hands to
+/// evaluate_shared along with the links to sample).
+inline constexpr float unopened = -2.0f;
+
+/// Opens a new link: its unoccluded transfer (transfer(): the analytic form factor between
+/// elements, the isotropic estimate with a cluster), which is all the oracle looks at, and its
+/// visibility left unsampled. A pair that can exchange nothing (elements not facing each
+/// other, a cluster wholly behind an element) comes back with visibility -1, to be dropped.
+inline Link open_link(const Hierarchy& h, NodeId r, NodeId s) {
+    if (r == s) return {r, s, 0.0f, unsampled};  // a self-link: the oracle always splits it
     const Transfer t = transfer(h, r, s);
-    Link l{r, s, static_cast<float>(t.coefficient), 1.0f};
-    if (h.is_cluster(r) || h.is_cluster(s)) {
-        // Sampled wherever the nodes may exchange anything, overlapping ones included: the
-        // isotropic estimate is only the oracle's (a link left at 0 would lose what it carries).
-        if (t.coefficient == 0.0 && !t.unreliable) return {r, s, 0.0f, -1.0f};  // drop
+    // A cluster link is sampled wherever the nodes may exchange anything, overlapping ones
+    // included: the isotropic estimate is only the oracle's.
+    const bool nothing = h.is_cluster(r) || h.is_cluster(s) ? t.coefficient == 0.0 && !t.unreliable
+                                                            : !(t.coefficient > 0.0);
+    return {r, s, static_cast<float>(t.coefficient), nothing ? -1.0f : unsampled};
+}
+
+/// Samples a kept link: its visibility from link_visibility's rays between two elements (the
+/// coefficient stays the analytic one), or with a cluster both the coefficient and the visibility
+/// from sampled_transfer (a link that the samples find carrying nothing, where the estimate
+/// was reliable, comes back with visibility -1, to be dropped). Seeded from the pair alone.
+template <Visibility V>
+Link sample_link(const Hierarchy& h, const V& scene, Link l, const RefineSettings& settings) {
+    const NodeId r = l.receiver, s = l.source;
+    if (r == s) {  // a self-link carries nothing itself (the oracle always splits it)
+        l.visibility = 1.0f;
+    } else if (h.is_cluster(r) || h.is_cluster(s)) {
         const SampledTransfer st =
             sampled_transfer(h, scene, r, s, settings.cluster_samples, settings.seed);
         l.coefficient = static_cast<float>(st.coefficient);
         l.visibility = static_cast<float>(st.visibility);
-        if (st.coefficient == 0.0 && !t.unreliable) l.visibility = -1.0f;  // nothing: drop
-    } else if (t.coefficient > 0.0) {
+        if (st.coefficient == 0.0 && !transfer(h, r, s).unreliable) l.visibility = -1.0f;
+    } else {
         l.visibility =
             static_cast<float>(link_visibility(h, scene, r, s, settings.rays, settings.seed));
-    } else {
-        l.visibility = -1.0f;  // the two elements do not face each other: drop
     }
     return l;
 }
@@ -221,69 +240,78 @@ struct SharedSplit {
     std::uint32_t verdict;
 };
 
-/// The work of evaluating a link, in rays: a cluster's sample pairs or an element pair's rays,
-/// plus one for its transfer.
-inline std::uint64_t evaluation_cost(const Hierarchy& h, NodeId r, NodeId src,
+/// The work of a task of evaluate_shared, in rays: opening a pair, one (its transfer);
+/// sampling a link, a cluster's sample pairs or an element pair's rays.
+inline std::uint64_t evaluation_cost(const Hierarchy& h, const Link& task,
                                      const RefineSettings& s) {
-    return std::uint64_t(1 + (h.is_cluster(r) || h.is_cluster(src) ? s.cluster_samples : s.rays));
+    if (task.visibility == unopened) return 1;
+    const bool cluster = h.is_cluster(task.receiver) || h.is_cluster(task.source);
+    return std::uint64_t(cluster ? s.cluster_samples : s.rays);
 }
 
-/// Evaluates pairs (evaluate_link) with this rank's threads: the plain loop.
+/// Carries out one task: opens a pair (open_link) or samples a kept link (sample_link).
 template <Visibility V>
-std::vector<Link> evaluate_pairs(const Hierarchy& h, const V& scene,
-                                 const std::vector<NodePair>& pairs, const RefineSettings& s) {
-    std::vector<Link> links(pairs.size());
-    const auto n = static_cast<std::int64_t>(pairs.size());
+Link evaluate_task(const Hierarchy& h, const V& scene, const Link& task, const RefineSettings& s) {
+    if (task.visibility == unopened) return open_link(h, task.receiver, task.source);
+    RADIOSITY_ASSERT(task.visibility == unsampled);
+    return sample_link(h, scene, task, s);
+}
+
+/// Carries out tasks (evaluate_task) with this rank's threads: the plain loop.
+template <Visibility V>
+std::vector<Link> evaluate_tasks(const Hierarchy& h, const V& scene, const std::vector<Link>& tasks,
+                                 const RefineSettings& s) {
+    std::vector<Link> links(tasks.size());
+    const auto n = static_cast<std::int64_t>(tasks.size());
 #if defined(RADIOSITY_WITH_OPENMP)
 #pragma omp parallel for schedule(dynamic, 64)
 #endif
-    for (std::int64_t i = 0; i < n; ++i) {
-        const auto [r, src] = pairs[std::size_t(i)];
-        links[std::size_t(i)] = evaluate_link(h, scene, r, src, s);
-    }
+    for (std::int64_t i = 0; i < n; ++i)
+        links[std::size_t(i)] = evaluate_task(h, scene, tasks[std::size_t(i)], s);
     return links;
 }
 
-/// Evaluates this rank's new links with the work of the round shared evenly among the ranks:
-/// what each rank made is one piece of a list in rank order, which is cut into equal shares of
-/// rays (evaluation_cost); each rank evaluates its share and sends the links back to the ranks
-/// that made them (two all-to-alls, the pairs there and the links back, in the order sent).
-/// Without it, a rank whose receivers made more of the round's links than its share keeps the
-/// others waiting at the round's end. A link is a function of its pair alone (its rays are
-/// seeded from the pair), so it has the same bits whichever rank evaluates it.
+/// Carries out this rank's tasks of the round (the pairs to open, the kept links to sample)
+/// with the work shared evenly among the ranks: what each rank has is one piece of a list in
+/// rank order, which is cut into equal shares of rays (evaluation_cost); each rank carries out
+/// its share and sends the links back to the ranks they came from (two all-to-alls, the tasks
+/// there and the links back, in the order sent). Without it, a rank whose receivers made more
+/// of the round's work than its share keeps the others waiting at the round's end. A link is a
+/// function of its pair alone (its rays are seeded from the pair), so it has the same bits
+/// whichever rank evaluates it.
 template <Visibility V>
 std::vector<Link> evaluate_shared(const Hierarchy& h, const V& scene,
-                                  const std::vector<NodePair>& fresh, const RefineSettings& s,
+                                  const std::vector<Link>& tasks, const RefineSettings& s,
                                   RefineShare& share) {
     Communicator& comm = share.comm;
     if (comm.size() == 1) {
         const auto t0 = std::chrono::steady_clock::now();
-        std::vector<Link> links = evaluate_pairs(h, scene, fresh, s);
+        std::vector<Link> links = evaluate_tasks(h, scene, tasks, s);
         share.compute_seconds += seconds_since(t0);
         return links;
     }
-    // Where this rank's pairs start in the list of every rank's, counted in rays.
+    // Where this rank's tasks start in the list of every rank's, counted in rays.
     std::uint64_t mine = 0;
-    for (const auto& [r, src] : fresh) mine += evaluation_cost(h, r, src, s);
+    for (const Link& t : tasks) mine += evaluation_cost(h, t, s);
     const std::vector<std::uint64_t> work = all_gather(comm, std::vector<std::uint64_t>{mine});
     std::uint64_t at = 0, total = 0;
     for (std::size_t q = 0; q < work.size(); ++q) {
         if (q < std::size_t(comm.rank())) at += work[q];
         total += work[q];
     }
-    // A pair goes to the rank whose share holds its first ray: rank floor(at P / total).
+    // A task goes to the rank whose share holds its first ray: rank floor(at P / total).
     const auto ranks = std::uint64_t(comm.size());
-    std::vector<std::vector<NodePair>> send(ranks);
-    for (const NodePair& p : fresh) {
-        send[std::min(ranks - 1, at * ranks / std::max<std::uint64_t>(total, 1))].push_back(p);
-        at += evaluation_cost(h, p.receiver, p.source, s);
+    std::vector<std::vector<Link>> send(ranks);
+    for (const Link& t : tasks) {
+        send[std::min(ranks - 1, at * ranks / std::max<std::uint64_t>(total, 1))].push_back(t);
+        at += evaluation_cost(h, t, s);
     }
     std::vector<std::size_t> from;
-    const std::vector<NodePair> pairs = all_to_all(comm, send, &from);
+    const std::vector<Link> came = all_to_all(comm, send, &from);
     const auto t0 = std::chrono::steady_clock::now();
-    const std::vector<Link> links = evaluate_pairs(h, scene, pairs, s);
+    const std::vector<Link> links = evaluate_tasks(h, scene, came, s);
     share.compute_seconds += seconds_since(t0);
-    // Back to the ranks that made them, each in the order it sent them.
+    // Back to the ranks that sent them, each in the order it sent them.
     std::vector<std::vector<Link>> back(ranks);
     for (std::size_t q = 0, k = 0; q < ranks; k += from[q], ++q)
         back[q].assign(links.begin() + std::ptrdiff_t(k),
@@ -293,10 +321,12 @@ std::vector<Link> evaluate_shared(const Hierarchy& h, const V& scene,
 
 /// One round of a pass: judge this rank's frontier; split, on every rank alike and in
 /// increasing id order, every element that any rank's verdicts split (so node ids never depend
-/// on the ranks or threads); carry out the verdicts; evaluate the new links of this rank's
-/// receivers, the round's evaluations shared evenly among the ranks (evaluate_shared). Three
-/// all-gathers (the splits, the links that cross ranks, the work), two all-to-alls and one
-/// reduction.
+/// on the ranks or threads); carry out the verdicts; then, the round's work shared evenly among
+/// the ranks (evaluate_shared), open the new links of this rank's receivers (their transfers:
+/// the next round's frontier) and sample the kept links that are not sampled yet (settled).
+/// Rays are cast only for links the oracle keeps: most links of a pass are split as soon as
+/// they are judged. Three all-gathers (the splits, the links that cross ranks, the work), two
+/// all-to-alls and one reduction.
 template <Visibility V>
 void refine_round(Hierarchy& h, const V& scene, RefineRound& round, const RefineSettings& s,
                   const OracleInputs& in, const NodesAdded& on_nodes, RefineShare& share) {
@@ -332,19 +362,26 @@ void refine_round(Hierarchy& h, const V& scene, RefineRound& round, const Refine
     if (h.size() > before) on_nodes(before);
     shared = all_gather(share.comm, shared);
     std::vector<NodePair> fresh;
+    std::vector<Link> kept;
     std::uint64_t splits = 0;
     const auto anything = [](NodeId) { return true; };
     const auto ours = [&](NodeId n) { return owner(n) == me; };
     for (std::size_t i = 0; i < frontier.size(); ++i)
-        if (!crosses[i])
-            splits += apply_verdict(h, frontier[i], verdict[i], round.done, fresh, anything);
+        if (!crosses[i]) splits += apply_verdict(h, frontier[i], verdict[i], kept, fresh, anything);
     std::vector<Link> unused;
     for (const SharedSplit& x : shared)  // every rank's, each rank taking its receivers
         apply_verdict(h, x.link, Verdict(x.verdict), unused, fresh, ours);
-    frontier = evaluate_shared(h, scene, fresh, s, share);
-    for (const auto& [r, src] : fresh)  // the work, where the next partition will weigh it
-        share.cost[h.member_begin[r]] += evaluation_cost(h, r, src, s);
-    std::erase_if(frontier, [](const Link& l) { return l.visibility < 0.0f; });
+    // The round's tasks: the kept links still unsampled, then the new pairs to open.
+    std::vector<Link> tasks;
+    for (const Link& l : kept) (l.visibility == unsampled ? tasks : round.done).push_back(l);
+    for (const NodePair& p : fresh) tasks.push_back({p.receiver, p.source, 0.0f, unopened});
+    for (const Link& t : tasks)  // the work, where the next partition will weigh it
+        share.cost[h.member_begin[t.receiver]] += evaluation_cost(h, t, s);
+    frontier.clear();
+    for (const Link& l : evaluate_shared(h, scene, tasks, s, share)) {
+        if (l.visibility < 0.0f) continue;  // exchanges nothing: dropped
+        (l.visibility == unsampled ? frontier : round.done).push_back(l);
+    }
     std::array<std::uint64_t, 3> totals{splits, frontier.size(), round.done.size()};
     share.comm.sum_in_place(totals);
     round.splits += totals[0] + shared.size();
