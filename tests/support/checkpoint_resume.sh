@@ -18,8 +18,15 @@ launch() {  # launch RANKS ARGS...: the program on RANKS ranks, or as one proces
 
 launch "$ranks" "$radiosity" "$scene" "${solve[@]}" --dump-patches "$dir/whole.csv" 2>/dev/null
 
-launch "$ranks" "$radiosity" "$scene" "${solve[@]}" --dump-patches "$dir/cut.csv" \
-  --checkpoint "$dir/state" --checkpoint-every 0.2 >"$dir/log" 2>&1 &
+# Started here, not through launch: `launch ... &` would make $! a subshell, and killing that
+# would leave the program itself running (and writing its outputs while the resumed run does).
+checkpointed=("$radiosity" "$scene" "${solve[@]}" --dump-patches "$dir/cut.csv"
+  --checkpoint "$dir/state" --checkpoint-every 0.2)
+if [ -n "$mpiexec" ]; then
+  "$mpiexec" --oversubscribe -np "$ranks" "${checkpointed[@]}" >"$dir/log" 2>&1 &
+else
+  "${checkpointed[@]}" >"$dir/log" 2>&1 &
+fi
 job=$!
 for _ in $(seq 1 1200); do [ -s "$dir/state" ] && break; sleep 0.01; done
 [ -s "$dir/state" ] || { echo "FAIL: no checkpoint was written"; exit 1; }
@@ -35,6 +42,7 @@ status=0
 wait "$job" || status=$?
 took_ms=$((($(date +%s%N) - killed_at) / 1000000))
 echo "killed $victim; the job ended with status $status after ${took_ms} ms"
+! kill -0 "$victim" 2>/dev/null || { echo "FAIL: process $victim outlived its kill -9"; exit 1; }
 [ "$status" -ne 0 ] || { echo "FAIL: the killed job reported success"; exit 1; }
 if [ -n "$mpiexec" ]; then
   grep -q "rank" "$dir/log" || { echo "FAIL: no message names the lost rank:"; cat "$dir/log"; exit 1; }
