@@ -7,9 +7,10 @@
 /// neither can be split (an element at the minimum area). Breadth first, links judged in
 /// parallel and elements split in increasing id order, so the hierarchy never depends on the
 /// number of threads or ranks. A new link is judged on its unoccluded transfer alone; its rays
-/// are cast only once the oracle keeps it. With several ranks each judges the links of the
-/// receivers it owns (distributed/partition.hpp), every rank splits alike, and each round's
-/// transfers and rays are shared out in equal shares of rays among all ranks.
+/// are cast only once the oracle keeps it, and one they find partly visible is judged again on
+/// its whole transfer (a shadow boundary crosses it). With several ranks each judges the links
+/// of the receivers it owns (distributed/partition.hpp), every rank splits alike, and each
+/// round's transfers and rays are shared out in equal shares of rays among all ranks.
 
 #include <radiosity/concepts.hpp>
 #include <radiosity/detail/parallel.hpp>
@@ -66,6 +67,11 @@ inline bool splittable(const Hierarchy& h, NodeId n, const RefineSettings& s) {
     return h.area[n] * 0.25 >= s.min_area && h.depth[n] < s.max_depth;
 }
 
+/// Whether a link could be replaced by finer ones: either end may be split.
+inline bool splits_further(const Hierarchy& h, const Link& l, const RefineSettings& s) {
+    return splittable(h, l.receiver, s) || splittable(h, l.source, s);
+}
+
 /// The oracle's verdict on a link.
 enum class Verdict : std::uint8_t { keep, receiver, source, self };
 
@@ -77,7 +83,7 @@ inline Verdict judge(const Hierarchy& h, const Link& l, const OracleInputs& in,
                      const RefineSettings& s) {
     const NodeId r = l.receiver, src = l.source;
     if (r == src) return Verdict::self;
-    // The oracle must not see the link's own random estimates (its sampled transfer, its
+    // The oracle must not weigh by the link's own random estimates (its sampled transfer, its
     // visibility): links whose rays happened to say "little" would then stay while the others
     // are refined and drawn again, a selection that biases the kept links low. Elements: the
     // analytic coefficient; a cluster: the isotropic estimate, or its bound where that fails.
@@ -92,7 +98,13 @@ inline Verdict judge(const Hierarchy& h, const Link& l, const OracleInputs& in,
     // share of what it carries.
     const double d = glm::length(h.centre[src] - h.centre[r]);
     const double reach = h.radius[r] + h.radius[src];
-    const double spread = d > reach ? reach / d : 1.0;
+    // A link whose rays found it partly visible has a shadow boundary across the pair: the
+    // visible fraction, pushed down alike to every part of the receiver, is then wrong for each
+    // part by up to all it carries (Hanrahan et al. 1991 refine such links further), so it is
+    // judged on its whole unoccluded transfer. Only "partly": the rays' verdict is used as a
+    // flag, never as a weight, so the kept links are not chosen by how little their rays saw.
+    const bool partly_visible = l.visibility > 0.0f && l.visibility < 1.0f;
+    const double spread = partly_visible || d <= reach ? 1.0 : reach / d;
     const double power = in.rho_max[r] * in.B_max[src] * T * h.area[r] * spread;
     if (!(power > s.threshold)) return Verdict::keep;
     const bool sr = splittable(h, r, s), ss = splittable(h, src, s);
@@ -378,9 +390,14 @@ void refine_round(Hierarchy& h, const V& scene, RefineRound& round, const Refine
     for (const Link& t : tasks)  // the work, where the next partition will weigh it
         share.cost[h.member_begin[t.receiver]] += evaluation_cost(h, t, s);
     frontier.clear();
+    // Opened links are judged next round; so are sampled ones that their rays found partly
+    // visible (judge refines those further); the rest are settled.
     for (const Link& l : evaluate_shared(h, scene, tasks, s, share)) {
         if (l.visibility < 0.0f) continue;  // exchanges nothing: dropped
-        (l.visibility == unsampled ? frontier : round.done).push_back(l);
+        const bool judged_again =
+            l.visibility == unsampled ||
+            (l.visibility > 0.0f && l.visibility < 1.0f && splits_further(h, l, s));
+        (judged_again ? frontier : round.done).push_back(l);
     }
     std::array<std::uint64_t, 3> totals{splits, frontier.size(), round.done.size()};
     share.comm.sum_in_place(totals);
