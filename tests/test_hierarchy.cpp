@@ -109,6 +109,106 @@ TEST_CASE("furnace: B = E / (1 - rho) in total power and, to the link error, lea
     }
 }
 
+TEST_CASE(
+    "furnace with hidden faces: a pillar from floor to ceiling, its ends and footprints "
+    "dark, everything else at E / (1 - rho)") {
+    // A closed furnace (E = 1 and rho = 0.7 everywhere) with a square pillar standing from its
+    // floor to its ceiling, a closed solid with its faces out. Every exposed point sees only
+    // surfaces of B = E / (1 - rho), so that is its B; the pillar's two ends, pressed against
+    // floor and ceiling, and the floor and ceiling under them see nothing and keep B = E. A
+    // hierarchy that let light into those hidden parts, or counted their darkness in what
+    // their nodes send, would be off on every surface, reflectance multiplying it.
+    const float rho = 0.7f;
+    Scene<Rgb> s = test::furnace_cube(1.0f, rho);
+    const auto b = static_cast<std::uint32_t>(s.positions.size());
+    for (int i = 0; i < 8; ++i)
+        s.positions.push_back(Vec3(i & 1 ? 0.6 : 0.3, i & 2 ? 0.6 : 0.3, i & 4 ? 1.0 : 0.0));
+    for (std::vector<std::uint32_t> q : std::vector<std::vector<std::uint32_t>>{
+             {0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}) {
+        for (auto& v : q) v += b;
+        s.faces.push_back(q);
+        s.face_material.push_back(0);
+    }
+    const auto r = solve_hierarchical<Rgb>(build_mesh(s), HierarchicalOptions{}, 1e-7);
+    CHECK(r.report.converged);
+    const auto means = surface_means(r.mesh);
+    const double lit = 1.0 / (1.0 - rho), footprint = 0.3 * 0.3;
+    for (const auto& [surface, B] : means) {
+        // Floor and ceiling (0, 1): lit but for the footprint; the pillar's ends (6, 7): dark.
+        const double expected = surface <= 1   ? (1.0 - footprint) * lit + footprint
+                                : surface <= 5 ? lit
+                                : surface <= 7 ? 1.0
+                                               : lit;
+        MESSAGE("surface " << surface << ": " << B << " (exact " << expected << ")");
+        CHECK(B == doctest::Approx(expected).epsilon(0.02));
+    }
+}
+
+TEST_CASE(
+    "exposure: hidden where a face is pressed against another or inside a solid, exposed "
+    "where it sees anything, in proportion between") {
+    // The furnace cube with a square pillar from floor to ceiling (faces out): root elements of
+    // the floor, a wall and the pillar's ends and sides.
+    Scene<Rgb> s = test::furnace_cube(1.0f, 0.5f);
+    const auto b = static_cast<std::uint32_t>(s.positions.size());
+    for (int i = 0; i < 8; ++i)
+        s.positions.push_back(Vec3(i & 1 ? 0.5 : 0.25, i & 2 ? 0.5 : 0.25, i & 4 ? 1.0 : 0.0));
+    for (std::vector<std::uint32_t> q : std::vector<std::vector<std::uint32_t>>{
+             {0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}) {
+        for (auto& v : q) v += b;
+        s.faces.push_back(q);
+        s.face_material.push_back(0);
+    }
+    Hierarchy h = detail::hierarchy_of(build_mesh(s));
+    const Bvh bvh(h.roots);
+    auto element_of_face = [&](std::uint32_t face) {
+        for (NodeId n = 0; n < h.size(); ++n)
+            if (!h.is_cluster(n) && h.surface[h.root_of(n)] == face) return n;
+        return no_node;
+    };
+    CHECK(element_exposure(h, bvh, element_of_face(6), 64, 1) == 0.0);  // end on the floor
+    CHECK(element_exposure(h, bvh, element_of_face(7), 64, 1) == 0.0);  // end on the ceiling
+    CHECK(element_exposure(h, bvh, element_of_face(2), 64, 1) == 1.0);  // a wall
+    CHECK(element_exposure(h, bvh, element_of_face(8), 64, 1) == 1.0);  // a side of the pillar
+    // The floor, split until an element is a quarter square: the one under the pillar is
+    // partly hidden (a quarter of it: the pillar covers [0.25, 0.5]^2 of [0, 0.5]^2), so
+    // sampled more (exposure_boost); its exposure is within sampling noise of 3/4.
+    NodeId floor = element_of_face(0);
+    const NodeId first = split_element(h, floor);
+    NodeId corner = no_node;
+    for (NodeId c = first; c < first + 4; ++c)
+        if (glm::length(h.centre[c] - Vec3(0.25, 0.25, 0.0)) < 0.2) corner = c;
+    REQUIRE(corner != no_node);
+    const double e = element_exposure(h, bvh, corner, 64, 1);
+    CHECK(e == doctest::Approx(0.75).epsilon(0.1));
+}
+
+TEST_CASE("push-pull keeps energy: what the leaves' exposed parts take is what the links bring") {
+    // Any irradiance on any nodes, any exposure: sum over leaves of A e h = sum over nodes of
+    // A H (each node's H is a mean over its whole area, hidden part included).
+    const Mesh<Rgb> box = subdivide(build_mesh(cornell_box<Rgb>(true)), SubdivisionOptions{});
+    Hierarchy h = detail::hierarchy_of(box);
+    for (NodeId n = 0; n < 40; ++n)
+        if (!h.is_cluster(n) && h.is_leaf(n)) split_element(h, n);
+    NodeValues<1> v;
+    v.extend(h, h.size());
+    Rng rng(5);
+    for (std::size_t i = 0; i < h.size(); ++i) {
+        v.H[i] = rng.uniform();
+        v.rho[i] = 1.0;  // B = h at the leaves
+        v.exposure[i] = h.is_leaf(NodeId(i)) ? (i % 5 == 0 ? 0.0 : rng.uniform()) : 1.0;
+    }
+    mean_exposure(h, v.exposure);
+    std::vector<double> total;
+    push_pull(h, v, total);
+    double brought = 0.0, taken = 0.0;
+    for (NodeId n = 0; n < h.size(); ++n) {
+        if (v.exposure[n] > 0.0) brought += h.area[n] * v.H[n];  // a hidden node takes nothing
+        if (h.is_leaf(n)) taken += h.area[n] * v.exposure[n] * v.B[n];
+    }
+    CHECK(taken == doctest::Approx(brought).epsilon(1e-12));
+}
+
 TEST_CASE("Howell's parallel and perpendicular squares through the leaf-to-leaf transfers") {
     // Square 0 emits E = 1 and reflects nothing; square 1 reflects rho = 0.5 and emits nothing:
     // then B_1 = 0.5 F_10 E_0 on average over square 1, the form factor summed over every pair

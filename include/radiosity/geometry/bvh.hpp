@@ -65,21 +65,23 @@ class Bvh {
                               {a, b});
     }
 
-    /// Closest hit of the ray origin + t direction with t in (t_min, t_max), if any.
+    /// Closest hit of the ray origin + t direction with t in (t_min, t_max), if any, on the
+    /// triangles of any patch other than `skip` (t_min may be negative: a hit just behind the
+    /// origin, where a ray leaves a face pressed against another).
     std::optional<Hit> intersect(const Vec3& origin, const Vec3& direction, double t_min = 0.0,
-                                 double t_max = std::numeric_limits<double>::infinity()) const {
+                                 double t_max = std::numeric_limits<double>::infinity(),
+                                 std::uint32_t skip = no_patch) const {
         std::optional<Hit> best;
         double far = t_max;
-        traverse(
-            origin, direction, t_min, far,
-            [&](const PatchTriangle& tri, double t, double u, double v) {
-                if (t < far) {
-                    far = t;
-                    best = Hit{t, tri.patch, u, v};
-                }
-                return false;
-            },
-            &far);
+        traverse(origin, direction, t_min, far,
+                 [&](const PatchTriangle& tri, double t, double u, double v) {
+                     if (t < far) {
+                         far = t;
+                         best = Hit{t, tri.patch, u, v};
+                     }
+                     return false;
+                 },
+                 &far, {skip, skip});
         return best;
     }
 

@@ -95,6 +95,12 @@ HierarchicalResult<S> solve_hierarchical(const Mesh<S>& patches, const Hierarchi
     if (!(o.min_area >= 0.0) || !std::isfinite(o.min_area))
         throw Error("hierarchical radiosity: minimum area must be a non-negative number");
     if (o.rays < 1) throw Error("hierarchical radiosity: need at least 1 ray per link");
+    if (o.cluster_samples < 1)
+        throw Error("hierarchical radiosity: need at least 1 sample per link with a cluster");
+    if (o.exposure_samples < 0)
+        throw Error("hierarchical radiosity: exposure samples must not be negative");
+    if (!(o.shadow_factor > 0.0) || !std::isfinite(o.shadow_factor))
+        throw Error("hierarchical radiosity: the shadow factor must be a positive number");
     detail::HierarchySolve<K> solve(detail::hierarchy_of(patches), o);
     solve.set_materials([&](std::uint32_t face, double* E, double* rho) {
         const auto& d = patches.data(patches.face_handle(static_cast<int>(face)));
@@ -104,7 +110,7 @@ HierarchicalResult<S> solve_hierarchical(const Mesh<S>& patches, const Hierarchi
         }
     });
     const Bvh scene(solve.hierarchy().roots);
-    if (o.exposure_rays > 0) solve.set_exposure(scene, o.exposure_rays, o.seed);
+    if (o.exposure_samples > 0) solve.set_exposure(scene, o.exposure_samples, o.seed);
     HierarchicalResult<S> result;
     result.report = solve.run(scene, tolerance, max_iterations, progress, result.hierarchy);
     const Hierarchy& h = solve.hierarchy();
@@ -112,7 +118,7 @@ HierarchicalResult<S> solve_hierarchical(const Mesh<S>& patches, const Hierarchi
     std::vector<S> B(leaves.leaf.size());
     for (std::size_t f = 0; f < B.size(); ++f)
         for (std::size_t k = 0; k < K; ++k)
-            set_band(B[f], k, static_cast<float>(solve.values().B[leaves.leaf[f] * K + k]));
+            set_band(B[f], k, static_cast<float>(solve.values().mean_radiosity(leaves.leaf[f], k)));
     result.mesh = leaf_mesh<S>(h, leaves, patches, B);
     HierarchyReport& r = result.hierarchy;
     r.input_faces = patches.n_faces();

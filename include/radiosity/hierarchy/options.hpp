@@ -25,15 +25,20 @@ struct HierarchicalOptions {
     double link_error = 5e-5;
     /// Elements split only into children of at least this area; 0: the scene's area / 10^6.
     double min_area = 0.0;
-    int rays = 4;              ///< visibility rays per link of two elements (a square number)
-    int cluster_samples = 16;  ///< sample pairs, one ray each, per link with a cluster
+    int rays = 4;             ///< visibility rays per link of two elements (a square number)
+    int cluster_samples = 4;  ///< sample pairs, one ray each, per link with a cluster
+    /// A link whose rays find it partly visible (a shadow's edge crosses the pair) is refined
+    /// while it would move more than link_error / shadow_factor of the emitted power, judged on
+    /// its transfer without visibility: shadows get finer links than light that varies smoothly.
+    double shadow_factor = 4.0;
     int max_depth = 24;        ///< deepest element level below an input face
     int coarse_passes = 3;     ///< multigrid passes before the final threshold (4x each)
     int max_final_passes = 2;  ///< refine -> solve rounds at the final threshold
     std::uint64_t seed = 1;    ///< base seed of the links' rays
-    /// Rays per input face for its exposure, which weights a cluster's push (exposure.hpp);
-    /// 0: the isotropic push, every face below a cluster alike.
-    int exposure_rays = 16;
+    /// Sample points per element at which its exposure is tested (exposure.hpp: the share of
+    /// its area from which the scene is seen), each with up to 4 rays; 0: every element counts
+    /// as wholly exposed (then light leaks into faces hidden under others).
+    int exposure_samples = 16;
     /// Largest memory for nodes and links, in bytes; 0: half the physical memory. Refinement
     /// that would pass it stops with an Error naming what to change.
     std::size_t max_bytes = 0;

@@ -103,16 +103,15 @@ class HierarchySolve {
             }
     }
 
-    /// Weights the push below clusters by the roots' exposure (exposure.hpp), each rank
-    /// casting the rays of an equal share of the roots.
-    void set_exposure(const Bvh& scene, int rays, std::uint64_t seed) {
-        const std::size_t n = h_.roots.size(), ranks = std::size_t(comm_->size()),
-                          me = std::size_t(comm_->rank());
-        const std::size_t first = n * me / ranks, last = n * (me + 1) / ranks;
-        std::vector<double> mine = root_exposure(h_, scene, rays, seed, first, last);
-        mine = all_gather(*comm_, std::vector<double>(mine.begin() + std::ptrdiff_t(first),
-                                                      mine.begin() + std::ptrdiff_t(last)));
-        v_.push = push_weights(h_, mine);
+    /// Measures exposure (exposure.hpp) from now on: `points` sample points per element, rays
+    /// through `scene`; the roots at once, each new leaf when a refinement pass ends. 0 points:
+    /// every node counts as wholly exposed.
+    void set_exposure(const Bvh& scene, int points, std::uint64_t seed) {
+        exposure_scene_ = &scene;
+        exposure_points_ = points;
+        exposure_seed_ = seed;
+        measured_.assign(h_.size(), 0);
+        refresh_exposure();
     }
 
     /// Runs the passes (hierarchical.hpp's file comment) under `tolerance`, from the start or
@@ -153,6 +152,7 @@ class HierarchySolve {
                 hr.refine_seconds += seconds_since(t0);
                 state_ = next_sweeps(state_);
             }
+            refresh_exposure();  // the pass's new leaves (or, resumed, the replayed ones)
             const auto t0 = std::chrono::steady_clock::now();
             if (!state_.sweeps_done)  // (a checkpoint taken after the pass's last sweep)
                 iterate(final ? tolerance : std::max(tolerance, 1e-2), max_iterations, progress,
@@ -188,9 +188,10 @@ class HierarchySolve {
                     f.add_value(v_.E[n * K + k]);
                     f.add_value(v_.rho[n * K + k]);
                 }
-        for (const double x : {o_.link_error, o_.min_area, tolerance}) f.add_value(x);
+        for (const double x : {o_.link_error, o_.min_area, tolerance, o_.shadow_factor})
+            f.add_value(x);
         for (const int x : {o_.rays, o_.cluster_samples, o_.max_depth, o_.coarse_passes,
-                            o_.max_final_passes, o_.exposure_rays})
+                            o_.max_final_passes, o_.exposure_samples})
             f.add_value(x);
         f.add_value(o_.seed);
         f.add_value(std::uint64_t(max_iterations));
@@ -204,6 +205,7 @@ class HierarchySolve {
         s.max_depth = o_.max_depth;
         s.rays = o_.rays;
         s.cluster_samples = o_.cluster_samples;
+        s.shadow_factor = o_.shadow_factor;
         s.seed = o_.seed;
         return s;
     }
@@ -265,6 +267,28 @@ class HierarchySolve {
         };
         refine_links(h_, scene, round_, s, inputs, added, share, round_done);
         compute_seconds_ += share.compute_seconds;
+    }
+
+    /// Measures the exposure of the element leaves not measured yet, each rank an equal share
+    /// of them (the values gathered to all), and sets every node with children to its
+    /// children's mean. Cost: the fresh leaves' rays, divided among the ranks; O(nodes).
+    void refresh_exposure() {
+        if (exposure_scene_ == nullptr || exposure_points_ <= 0) return;
+        measured_.resize(h_.size(), 0);
+        std::vector<NodeId> fresh;
+        for (NodeId n = 0; n < h_.size(); ++n)
+            if (!measured_[n] && !h_.is_cluster(n) && h_.is_leaf(n)) fresh.push_back(n);
+        if (fresh.empty()) return;
+        const std::size_t ranks = std::size_t(comm_->size()), me = std::size_t(comm_->rank());
+        const std::size_t first = fresh.size() * me / ranks, last = fresh.size() * (me + 1) / ranks;
+        const std::vector<double> values = all_gather(
+            *comm_, element_exposures(h_, *exposure_scene_, exposure_points_, exposure_seed_,
+                                      std::span<const NodeId>(fresh).subspan(first, last - first)));
+        for (std::size_t i = 0; i < fresh.size(); ++i) {
+            v_.exposure[fresh[i]] = values[i];
+            measured_[fresh[i]] = 1;
+        }
+        mean_exposure(h_, v_.exposure);
     }
 
     /// Gives nodes [from, size) their parent's values; refuses a hierarchy past the memory
@@ -412,7 +436,11 @@ class HierarchySolve {
     SolveState state_;
     std::vector<NodeId> split_log_;
     double emitted_ = 0.0, q_rows_ = 1.0;
-    double compute_seconds_ = 0.0;  // judging and evaluating links, this rank
+    const Bvh* exposure_scene_ = nullptr;  // rays for exposure (set_exposure); null: none
+    int exposure_points_ = 0;
+    std::uint64_t exposure_seed_ = 0;
+    std::vector<std::uint8_t> measured_;  // per node: exposure measured (element leaves)
+    double compute_seconds_ = 0.0;        // judging and evaluating links, this rank
     std::uint64_t hash_ = 0;
     std::size_t checkpoints_ = 0;
     bool stop_ = false;  // the progress callback asked to stop (acted on at the next safe point)
