@@ -88,7 +88,7 @@ int ladder() {
         return 0;
     }
     const auto scene = radiosity::build_mesh(radiosity::read_rrv<Rgb>(path));
-    std::printf("room3, hierarchical (default link error 5e-5):\n");
+    std::printf("room3, hierarchical (default link error 1e-4):\n");
     std::printf(
         "| area rule | min area | seconds | peak MB | elements | links | links/element "
         "| leaves | time ratio | memory ratio |\n|---|---|---|---|---|---|---|---|---|---|\n");

@@ -80,7 +80,7 @@ void add_solver_options(CLI::Option_group& g, SceneArgs& a) {
         ->check(CLI::PositiveNumber);
     g.add_option("--link-error", a.link_error,
                  "hierarchical: refine a link while it would move more than this share of the "
-                 "emitted power (default 5e-5; smaller is finer and slower)")
+                 "emitted power (default 1e-4; smaller is finer and slower)")
         ->check(CLI::PositiveNumber);
     g.add_option("--min-area", a.min_area,
                  "hierarchical: split no element into pieces smaller than this area (default: a "

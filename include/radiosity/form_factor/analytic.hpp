@@ -80,8 +80,8 @@ inline double point_to_polygon(const Vec3& x, const Vec3& n, std::span<const Vec
     if (all_above) {
         sum = detail::contour_sum(x, n, poly);
     } else {
-        const std::vector<Vec3> clipped = clip_to_plane(poly, x, n);
-        sum = detail::contour_sum(x, n, clipped);
+        const ClippedPolygon<> clipped(poly, x, n);
+        sum = detail::contour_sum(x, n, clipped.corners());
     }
     return std::max(0.0, -sum / (2.0 * std::numbers::pi));
 }
@@ -196,7 +196,8 @@ inline double exchange_integral(std::span<const Vec3> a, const Vec3& n_a, std::s
     // Only the part of a in front of b's plane sees b's front: there the integrand is smooth;
     // across b's plane it jumps to 0 (e.g. a floor patch under a block's side), and a jump
     // inside a triangle would send the adaptive quadrature to its depth limit.
-    const std::vector<Vec3> front = clip_to_plane(a, b[0], polygon_normal(b));
+    const ClippedPolygon<> clipped(a, b[0], polygon_normal(b));
+    const std::span<const Vec3> front = clipped.corners();
     if (front.size() < 3) return 0.0;
     const detail::PointToPolygon f{n_a, b};
     double sum = 0.0;
@@ -216,7 +217,8 @@ inline double exchange_integral(std::span<const Vec3> a, const Vec3& n_a, std::s
 /// over a, it is exact to 3.2e-6 relative for unit squares 3 apart (the ray-cast near-field
 /// boundary is 2.83) and better farther. Cost: 7 contour integrals per fan triangle.
 inline double exchange_by_rule(std::span<const Vec3> a, const Vec3& n_a, std::span<const Vec3> b) {
-    const std::vector<Vec3> front = clip_to_plane(a, b[0], polygon_normal(b));
+    const ClippedPolygon<> clipped(a, b[0], polygon_normal(b));
+    const std::span<const Vec3> front = clipped.corners();
     if (front.size() < 3) return 0.0;
     const detail::PointToPolygon f{n_a, b};
     double sum = 0.0;

@@ -47,6 +47,12 @@ struct Transfer {
     bool unreliable = false;  ///< the estimate cannot be trusted: refine if it might matter
 };
 
+/// How exactly a transfer between near elements is integrated.
+enum class Accuracy : std::uint8_t {
+    estimate,  ///< near pairs by the 7-point rule too: enough to decide whether to refine
+    full,      ///< near pairs by adaptive quadrature: the value a kept link carries
+};
+
 namespace detail {
 
 /// Settings of the exchange integral for elements close together (within twice their reach):
@@ -58,10 +64,14 @@ inline constexpr AnalyticOptions near_exchange{.tolerance = 1e-2, .max_depth = 3
 /// contour integral (analytic.hpp) at a cost that follows the distance d against the reach
 /// radius_r + radius_s: beyond 10 reaches the contour integral at the receiver's centroid (off
 /// the receiver's mean by O((reach / d)^2), a few 1e-3); beyond 2, Dunavant's 7-point rule
-/// over the receiver (exchange_by_rule, 3e-6 at 3 reaches); nearer, the adaptive
-/// quadrature over the smaller of the two (exchange_integral), reciprocal by construction.
-/// 0 if either lies wholly behind the other.
-inline Transfer element_transfer(const Hierarchy& h, NodeId r, NodeId s) {
+/// over the receiver (exchange_by_rule, 3e-6 at 3 reaches); nearer, with Accuracy::full, the
+/// adaptive quadrature over the smaller of the two (exchange_integral), reciprocal by
+/// construction, and with Accuracy::estimate the rule again (off by up to some per cent where
+/// the two touch; most near pairs are refined as soon as they are judged, and the quadrature,
+/// five times the rule's cost, is spent only on those kept). 0 if either lies wholly behind
+/// the other.
+inline Transfer element_transfer(const Hierarchy& h, NodeId r, NodeId s,
+                                 Accuracy accuracy = Accuracy::full) {
     if (behind_plane(h.polygon(s), h.centre[r], h.normal[r]) ||
         behind_plane(h.polygon(r), h.centre[s], h.normal[s]))
         return {};  // the analytic method's test: one-sided faces that do not face exchange 0
@@ -70,7 +80,7 @@ inline Transfer element_transfer(const Hierarchy& h, NodeId r, NodeId s) {
     double F;
     if (d > 10.0 * reach) {
         F = point_to_polygon(h.centre[r], h.normal[r], h.polygon(s));
-    } else if (d > 2.0 * reach) {
+    } else if (d > 2.0 * reach || accuracy == Accuracy::estimate) {
         F = exchange_by_rule(h.polygon(r), h.normal[r], h.polygon(s)) / h.area[r];
     } else {
         const bool over_r = h.area[r] < h.area[s] || (h.area[r] == h.area[s] && r < s);
@@ -102,8 +112,9 @@ inline Facing facing(const Hierarchy& h, NodeId n, const Vec3& u, double d, doub
 /// element source and 1 / (4 pi) for an isotropic cluster (its mean intensity over
 /// orientations), g_r = cos(theta_r) for an element receiver and 1/4 for a cluster (the mean
 /// projected area of its surfaces; Sillion 1995). Cost: O(corners), or 7-14 contour integrals.
-inline Transfer transfer(const Hierarchy& h, NodeId r, NodeId s) {
-    if (!h.is_cluster(r) && !h.is_cluster(s)) return detail::element_transfer(h, r, s);
+inline Transfer transfer(const Hierarchy& h, NodeId r, NodeId s,
+                         Accuracy accuracy = Accuracy::full) {
+    if (!h.is_cluster(r) && !h.is_cluster(s)) return detail::element_transfer(h, r, s, accuracy);
     const Vec3 rs = h.centre[s] - h.centre[r];
     const double d = glm::length(rs);
     const double reach = h.radius[r] + h.radius[s];

@@ -22,7 +22,7 @@ struct CheckpointOptions {
 struct HierarchicalOptions {
     /// BF refinement's threshold as a share of the scene's emitted power: a link is refined
     /// while it would move more than link_error times sum_i E_i A_i (rho_r B_s T_rs A_r).
-    double link_error = 5e-5;
+    double link_error = 1e-4;
     /// Elements split only into children of at least this area; 0: the scene's area / 10^6.
     double min_area = 0.0;
     int rays = 4;             ///< visibility rays per link of two elements (a square number)
@@ -31,10 +31,15 @@ struct HierarchicalOptions {
     /// while it would move more than link_error / shadow_factor of the emitted power, judged on
     /// its transfer without visibility: shadows get finer links than light that varies smoothly.
     double shadow_factor = 4.0;
-    int max_depth = 24;        ///< deepest element level below an input face
-    int coarse_passes = 3;     ///< multigrid passes before the final threshold (4x each)
-    int max_final_passes = 2;  ///< refine -> solve rounds at the final threshold
-    std::uint64_t seed = 1;    ///< base seed of the links' rays
+    int max_depth = 24;  ///< deepest element level below an input face
+    /// Multigrid passes before the final threshold, each refined at 4 times the next one's
+    /// threshold against the B of the pass before: one is enough for the final refinement to
+    /// see where light goes (more add links that the next pass refines again).
+    int coarse_passes = 1;
+    /// Refine -> solve rounds at the final threshold, until no link splits (a second round
+    /// adds a quarter more links for a change in B far below the link error).
+    int max_final_passes = 1;
+    std::uint64_t seed = 1;  ///< base seed of the links' rays
     /// Sample points per element at which its exposure is tested (exposure.hpp: the share of
     /// its area from which the scene is seen), each with up to 4 rays; 0: every element counts
     /// as wholly exposed (then light leaks into faces hidden under others).

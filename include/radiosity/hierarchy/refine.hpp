@@ -185,12 +185,13 @@ inline constexpr float unsampled = 2.0f;
 inline constexpr float unopened = -2.0f;
 
 /// Opens a new link: its unoccluded transfer (transfer(): the analytic form factor between
-/// elements, the isotropic estimate with a cluster), which is all the oracle looks at, and its
-/// visibility left unsampled. A pair that can exchange nothing (elements not facing each
-/// other, a cluster wholly behind an element) comes back with visibility -1, to be dropped.
+/// elements, near ones by the 7-point estimate, the isotropic estimate with a cluster), which
+/// is all the oracle looks at, and its visibility left unsampled. A pair that can exchange nothing
+/// (elements not facing each other, a cluster wholly behind an element) comes back with visibility
+/// -1, to be dropped.
 inline Link open_link(const Hierarchy& h, NodeId r, NodeId s) {
     if (r == s) return {r, s, 0.0f, unsampled};  // a self-link: the oracle always splits it
-    const Transfer t = transfer(h, r, s);
+    const Transfer t = transfer(h, r, s, Accuracy::estimate);
     // A cluster link is sampled wherever the nodes may exchange anything, overlapping ones
     // included: the isotropic estimate is only the oracle's.
     const bool nothing = h.is_cluster(r) || h.is_cluster(s) ? t.coefficient == 0.0 && !t.unreliable
@@ -198,10 +199,10 @@ inline Link open_link(const Hierarchy& h, NodeId r, NodeId s) {
     return {r, s, static_cast<float>(t.coefficient), nothing ? -1.0f : unsampled};
 }
 
-/// Samples a kept link: its visibility from link_visibility's rays between two elements (the
-/// coefficient stays the analytic one), or with a cluster both the coefficient and the visibility
-/// from sampled_transfer. Seeded from the pair alone. A link whose samples happen to find
-/// nothing is kept all the same (with T = 0): the next pass judges it again and may refine it,
+/// Samples a kept link: between two elements its full analytic transfer (Accuracy::full) and its
+/// visibility from link_visibility's rays, or with a cluster both the coefficient and the
+/// visibility from sampled_transfer. Seeded from the pair alone. A link whose samples happen to
+/// find nothing is kept all the same (with T = 0): the next pass judges it again and may refine it,
 /// whereas a dropped link would take its pair's light out of the solve for good (with 4 samples
 /// that dimmed room3 by 2%).
 template <Visibility V>
@@ -215,6 +216,8 @@ Link sample_link(const Hierarchy& h, const V& scene, Link l, const RefineSetting
         l.coefficient = static_cast<float>(st.coefficient);
         l.visibility = static_cast<float>(st.visibility);
     } else {
+        // The transfer it was judged on is the estimate; a kept link carries the full one.
+        l.coefficient = static_cast<float>(transfer(h, r, s, Accuracy::full).coefficient);
         l.visibility =
             static_cast<float>(link_visibility(h, scene, r, s, settings.rays, settings.seed));
     }
