@@ -16,6 +16,7 @@
 #include <radiosity/detail/parallel.hpp>
 #include <radiosity/distributed/communicator.hpp>
 #include <radiosity/distributed/partition.hpp>
+#include <radiosity/error.hpp>
 #include <radiosity/hierarchy/links.hpp>
 #include <radiosity/hierarchy/nodes.hpp>
 #include <radiosity/progress.hpp>
@@ -26,6 +27,7 @@
 #include <cstdint>
 #include <functional>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace radiosity {
@@ -246,6 +248,9 @@ struct RefineShare {
     std::vector<std::uint64_t>& cost;  ///< per position of the cluster order: work measured
     std::vector<NodeId>& split_log;    ///< elements split, in the order they were split
     double compute_seconds = 0.0;      ///< time judging and evaluating (no waiting on others)
+    /// Most links this rank may hold in a round (settled, to be judged, and the round's new
+    /// ones): past it the refinement stops with an Error instead of exhausting the memory.
+    std::size_t max_links = std::size_t(-1);
 };
 
 /// Called after every round; returns false to stop the pass (it then throws Cancelled).
@@ -391,6 +396,10 @@ void refine_round(Hierarchy& h, const V& scene, RefineRound& round, const Refine
     for (const SharedSplit& x : shared)  // every rank's, each rank taking its receivers
         apply_verdict(h, x.link, Verdict(x.verdict), unused, fresh, ours);
     // The round's tasks: the kept links still unsampled, then the new pairs to open.
+    if (round.done.size() + kept.size() + fresh.size() > share.max_links)
+        throw Error("hierarchical radiosity: the refinement would hold more than " +
+                    std::to_string(share.max_links) + " links, past the memory limit; raise " +
+                    "--link-error or --min-area, or the limit (--max-memory)");
     std::vector<Link> tasks;
     for (const Link& l : kept) (l.visibility == unsampled ? tasks : round.done).push_back(l);
     for (const NodePair& p : fresh) tasks.push_back({p.receiver, p.source, 0.0f, unopened});

@@ -253,6 +253,11 @@ class HierarchySolve {
     template <Visibility V>
     void refine(const V& scene, const RefineSettings& s, const ProgressCallback& progress) {
         RefineShare share{*comm_, partition_, cost_, split_log_};
+        // Links live in a round about three times over (settled or to be judged, the round's
+        // tasks, their evaluations), each vector up to twice its size as it grows: what the
+        // memory limit leaves after the nodes allows so many.
+        const std::size_t limit = o_.max_bytes ? o_.max_bytes : default_matrix_limit();
+        share.max_links = limit > bytes() ? (limit - bytes()) / (6 * sizeof(Link)) : 0;
         auto inputs = [this] { return OracleInputs{v_.rho_max, v_.B_max}; };
         auto added = [this](std::size_t from) { extend_nodes(from); };
         // After each round: progress, and a checkpoint if one is due or the user stops (both
