@@ -82,6 +82,20 @@ bool straddles(const Hierarchy& h, NodeId a, NodeId b) {
     return front && back;
 }
 
+/// Adds the box [lo, hi] to s as a closed solid of material 0, its six faces out: bottom (face
+/// s.faces.size() before the call), top, then the four sides.
+void add_box(Scene<Rgb>& s, const Vec3& lo, const Vec3& hi) {
+    const auto b = static_cast<std::uint32_t>(s.positions.size());
+    for (int i = 0; i < 8; ++i)
+        s.positions.push_back(Vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z));
+    for (std::vector<std::uint32_t> q : std::vector<std::vector<std::uint32_t>>{
+             {0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}) {
+        for (auto& v : q) v += b;
+        s.faces.push_back(q);
+        s.face_material.push_back(0);
+    }
+}
+
 const HierarchicalOptions fine{.link_error = 1e-6, .min_area = 1e-4};
 
 }  // namespace
@@ -120,15 +134,7 @@ TEST_CASE(
     // their nodes send, would be off on every surface, reflectance multiplying it.
     const float rho = 0.7f;
     Scene<Rgb> s = test::furnace_cube(1.0f, rho);
-    const auto b = static_cast<std::uint32_t>(s.positions.size());
-    for (int i = 0; i < 8; ++i)
-        s.positions.push_back(Vec3(i & 1 ? 0.6 : 0.3, i & 2 ? 0.6 : 0.3, i & 4 ? 1.0 : 0.0));
-    for (std::vector<std::uint32_t> q : std::vector<std::vector<std::uint32_t>>{
-             {0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}) {
-        for (auto& v : q) v += b;
-        s.faces.push_back(q);
-        s.face_material.push_back(0);
-    }
+    add_box(s, Vec3(0.3, 0.3, 0.0), Vec3(0.6, 0.6, 1.0));
     const auto r = solve_hierarchical<Rgb>(build_mesh(s), HierarchicalOptions{}, 1e-7);
     CHECK(r.report.converged);
     const auto means = surface_means(r.mesh);
@@ -150,15 +156,7 @@ TEST_CASE(
     // The furnace cube with a square pillar from floor to ceiling (faces out): root elements of
     // the floor, a wall and the pillar's ends and sides.
     Scene<Rgb> s = test::furnace_cube(1.0f, 0.5f);
-    const auto b = static_cast<std::uint32_t>(s.positions.size());
-    for (int i = 0; i < 8; ++i)
-        s.positions.push_back(Vec3(i & 1 ? 0.5 : 0.25, i & 2 ? 0.5 : 0.25, i & 4 ? 1.0 : 0.0));
-    for (std::vector<std::uint32_t> q : std::vector<std::vector<std::uint32_t>>{
-             {0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}) {
-        for (auto& v : q) v += b;
-        s.faces.push_back(q);
-        s.face_material.push_back(0);
-    }
+    add_box(s, Vec3(0.25, 0.25, 0.0), Vec3(0.5, 0.5, 1.0));
     Hierarchy h = detail::hierarchy_of(build_mesh(s));
     const Bvh bvh(h.roots);
     auto element_of_face = [&](std::uint32_t face) {
@@ -287,15 +285,7 @@ TEST_CASE("energy balance of a closed room with an occluder: absorbed = emitted"
     Scene<Rgb> s = test::furnace_cube(0.0f, 0.6f);
     s.materials.push_back({Rgb(4.0f), Rgb(0.3f), "lamp"});
     s.face_material[1] = 1;  // the ceiling z = 1 emits
-    const std::uint32_t b = static_cast<std::uint32_t>(s.positions.size());
-    for (int i = 0; i < 8; ++i)
-        s.positions.push_back(Vec3(i & 1 ? 0.6 : 0.3, i & 2 ? 0.6 : 0.3, i & 4 ? 0.5 : 0.1));
-    for (std::vector<std::uint32_t> q : std::vector<std::vector<std::uint32_t>>{
-             {0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}) {
-        for (auto& v : q) v += b;
-        s.faces.push_back(q);
-        s.face_material.push_back(0);
-    }
+    add_box(s, Vec3(0.3, 0.3, 0.1), Vec3(0.6, 0.6, 0.5));
     const Mesh<Rgb> m = build_mesh(s);
     const auto r = solve_hierarchical<Rgb>(m, HierarchicalOptions{.link_error = 1e-5}, 1e-8);
     double emitted = 0.0, absorbed = 0.0;
