@@ -218,8 +218,10 @@ Link sample_link(const Hierarchy& h, const V& scene, Link l, const RefineSetting
         l.coefficient = static_cast<float>(st.coefficient);
         l.visibility = static_cast<float>(st.visibility);
     } else {
-        // The transfer it was judged on is the estimate; a kept link carries the full one.
-        l.coefficient = static_cast<float>(transfer(h, r, s, Accuracy::full).coefficient);
+        // The transfer it was judged on is the estimate; a kept link carries the full one
+        // (the same number but for near pairs that need the quadrature).
+        if (detail::full_differs(h, r, s))
+            l.coefficient = static_cast<float>(transfer(h, r, s, Accuracy::full).coefficient);
         l.visibility =
             static_cast<float>(link_visibility(h, scene, r, s, settings.rays, settings.seed));
     }
