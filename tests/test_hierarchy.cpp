@@ -170,7 +170,8 @@ TEST_CASE(
     CHECK(element_exposure(h, bvh, element_of_face(8), 64, 1) == 1.0);  // a side of the pillar
     // The floor, split until an element is a quarter square: the one under the pillar is
     // partly hidden (a quarter of it: the pillar covers [0.25, 0.5]^2 of [0, 0.5]^2), so
-    // sampled more (exposure_boost); its exposure is within sampling noise of 3/4.
+    // sampled again on jittered strata (exposure_strata); its exposure is within sampling noise
+    // of 3/4.
     NodeId floor = element_of_face(0);
     const NodeId first = split_element(h, floor);
     NodeId corner = no_node;
