@@ -138,14 +138,20 @@ int main(int argc, char** argv) {
     if (const auto status = cli::parse(app, argc, argv)) return *status;
     Ranks ranks;
 #if defined(RADIOSITY_WITH_MPI)
-    radiosity::MpiSession session(argc, argv);
-    radiosity::MpiCommunicator world;
-    ranks = {&world, world.rank(), world.size()};
+    // Under mpirun, one rank of the job; run on its own, one process without MPI (the same
+    // result, bit for bit, without the runtime's start-up).
+    std::optional<radiosity::MpiSession> session;
+    std::optional<radiosity::MpiCommunicator> world;
+    if (radiosity::MpiSession::launched()) {
+        session.emplace(argc, argv);
+        world.emplace();
+        ranks = {&*world, world->rank(), world->size()};
 #if defined(RADIOSITY_WITH_OPENMP)
-    // The ranks on one machine share its cores, unless OMP_NUM_THREADS says otherwise.
-    if (std::getenv("OMP_NUM_THREADS") == nullptr)
-        omp_set_num_threads(std::max(1, omp_get_num_procs() / session.ranks_on_this_node()));
+        // The ranks on one machine share its cores, unless OMP_NUM_THREADS says otherwise.
+        if (std::getenv("OMP_NUM_THREADS") == nullptr)
+            omp_set_num_threads(std::max(1, omp_get_num_procs() / session->ranks_on_this_node()));
 #endif
+    }
 #endif
     try {
         return run(a, ranks);
