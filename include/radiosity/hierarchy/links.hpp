@@ -56,9 +56,8 @@ enum class Accuracy : std::uint8_t {
 
 namespace detail {
 
-/// Settings of the exchange integral for elements close together (within twice their reach):
-/// there the kernel varies fast over both, and touching or crossing elements (a barrel's side
-/// against the ceiling it meets) would be badly served by a fixed rule.
+/// Settings of the exchange integral for the near pairs that need it (by_quadrature): there
+/// F_dA(x)->larger steps across the smaller element, which a fixed rule serves badly.
 inline constexpr AnalyticOptions near_exchange{.tolerance = 1e-2, .max_depth = 3};
 
 /// Whether the exchange integral over a near element a, the smaller of a pair, toward b needs
