@@ -56,15 +56,23 @@ enum class Accuracy : std::uint8_t {
 
 namespace detail {
 
-/// Settings of the exchange integral for the near pairs that need it (by_quadrature): there
+/// Settings of the exchange integral for the near pairs that need it (NearPair): there
 /// F_dA(x)->larger steps across the smaller element, which a fixed rule serves badly.
 inline constexpr AnalyticOptions near_exchange{.tolerance = 1e-2, .max_depth = 3};
 
-/// Whether the exchange integral over a near element a, the smaller of a pair, toward b needs
-/// adaptive quadrature (element_transfer): a's centroid lies within half a's radius of b's plane.
-inline bool by_quadrature(const Hierarchy& h, NodeId a, NodeId b) {
+/// How element_transfer integrates a near pair: over `outer`, the smaller element (ties by id,
+/// so that (r, s) and (s, r) give one number, A_r F_rs = A_s F_sr), toward `inner`; by adaptive
+/// quadrature with Accuracy::full where the outer's centroid lies within half its radius of the
+/// inner's plane (`quadrature`), by the 7-point rule otherwise.
+struct NearPair {
+    NodeId outer, inner;
+    bool quadrature;
+};
+inline NearPair near_pair(const Hierarchy& h, NodeId r, NodeId s) {
+    const bool over_r = h.area[r] < h.area[s] || (h.area[r] == h.area[s] && r < s);
+    const NodeId a = over_r ? r : s, b = over_r ? s : r;
     const double height = std::abs(glm::dot(h.centre[a] - h.polygon(b)[0], h.normal[b]));
-    return height < 0.5 * h.radius[a];
+    return {a, b, height < 0.5 * h.radius[a]};
 }
 
 /// Element to element: the form factor F_rs from the exchange integral A_r F_rs of Lambert's
@@ -96,9 +104,8 @@ inline Transfer element_transfer(const Hierarchy& h, NodeId r, NodeId s,
     } else if (d > 2.0 * reach) {
         F = exchange_by_rule(h.polygon(r), h.normal[r], h.polygon(s)) / h.area[r];
     } else {
-        const bool over_r = h.area[r] < h.area[s] || (h.area[r] == h.area[s] && r < s);
-        const NodeId a = over_r ? r : s, b = over_r ? s : r;  // over a, the smaller
-        F = (accuracy == Accuracy::full && by_quadrature(h, a, b)
+        const auto [a, b, quadrature] = near_pair(h, r, s);
+        F = (accuracy == Accuracy::full && quadrature
                  ? exchange_integral(h.polygon(a), h.normal[a], h.polygon(b), near_exchange)
                  : exchange_by_rule(h.polygon(a), h.normal[a], h.polygon(b))) /
             h.area[r];
@@ -110,9 +117,8 @@ inline Transfer element_transfer(const Hierarchy& h, NodeId r, NodeId s,
 /// Accuracy::full, and so differs from its estimate: a near pair with the smaller element close
 /// to the larger's plane (see there).
 inline bool full_differs(const Hierarchy& h, NodeId r, NodeId s) {
-    if (glm::length(h.centre[s] - h.centre[r]) > 2.0 * (h.radius[r] + h.radius[s])) return false;
-    const bool over_r = h.area[r] < h.area[s] || (h.area[r] == h.area[s] && r < s);
-    return over_r ? by_quadrature(h, r, s) : by_quadrature(h, s, r);
+    const double d = glm::length(h.centre[s] - h.centre[r]);
+    return !(d > 2.0 * (h.radius[r] + h.radius[s])) && near_pair(h, r, s).quadrature;
 }
 
 /// How a node faces a direction u (unit) toward the other node at distance d with bounding

@@ -216,9 +216,8 @@ class HierarchySolve {
     /// room3). They were kept while another pass could judge them again (a dropped link takes
     /// its pair's light out for good); the sweeps would add 0 B for each, so B keeps its bits.
     void drop_dark_links() {
-        std::erase_if(links_, [](const Link& l) {
-            return l.receiver != l.source && (l.coefficient == 0.0f || l.visibility == 0.0f);
-        });
+        std::erase_if(links_,
+                      [](const Link& l) { return l.coefficient == 0.0f || l.visibility == 0.0f; });
         links_.shrink_to_fit();
     }
 
