@@ -8,6 +8,9 @@
 //                            (1.03 million at the default --edge 2.85 mm; written as OBJ with
 //                            --obj FILE), against the same box given as its few large faces:
 //                            time, peak memory and per-material means (--link-error E sets both)
+//   bench_hierarchy seeds [N]  room3's per-material means at seeds 1..N (default 8) of the
+//                            links' rays, each against the dense hemicube solve: how far the
+//                            sampling alone moves what the accuracy table quotes at seed 1
 //
 // Columns: seconds (wall), peak resident memory (MB), elements, links, links per element,
 // leaves (the result's patches) and, for the ladder, the cost ratio to the row above.
@@ -19,6 +22,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -35,7 +40,9 @@ using radiosity::Rgb;
 struct Row {
     double seconds = 0.0, peak_mb = 0.0;
     std::size_t elements = 0, links = 0, leaves = 0;
-    double white = 0.0, red = 0.0, green = 0.0;  // per-material means (the million test)
+    /// Per-material means (mean of the bands) of materials 0..4: the million test's white, red
+    /// and green; room3's walls, table, teapot, lamps and shades.
+    std::array<double, 5> mean{};
 };
 
 /// Runs f in a child process and returns its Row with the child's peak resident memory.
@@ -75,9 +82,8 @@ Row solve_row(const radiosity::Mesh<Rgb>& scene, radiosity::SolveOptions o) {
         row.elements = r.hierarchy->elements;
         row.links = r.hierarchy->links;
     }
-    row.white = bench::material_mean(r.mesh, 0);
-    row.red = bench::material_mean(r.mesh, 1);
-    row.green = bench::material_mean(r.mesh, 2);
+    for (std::uint32_t m = 0; m < row.mean.size(); ++m)
+        row.mean[m] = bench::material_mean(r.mesh, m);
     return row;
 }
 
@@ -112,6 +118,48 @@ int ladder() {
     const Row d = in_child([&] { return solve_row(scene, dense); });
     std::printf("dense hemicube, area rule 1: %.2f s, %.0f MB peak, %zu patches (n^2 matrix)\n",
                 d.seconds, d.peak_mb, d.leaves);
+    return 0;
+}
+
+/// Room3's per-material means at seeds 1..n against the dense hemicube solve of RRV's patches
+/// (the accuracy target's yardstick): the spread that the links' random rays alone give.
+int seeds(int n) {
+    const std::string path = std::string(RADIOSITY_SHARED_DIR) + "/rrv/room3.xml";
+    if (!std::ifstream(path)) {
+        std::printf("skipped: %s not found\n", path.c_str());
+        return 0;
+    }
+    const auto scene = radiosity::build_mesh(radiosity::read_rrv<Rgb>(path));
+    radiosity::SolveOptions dense{.subdivision = {.max_area = 1.0, .conforming = false}};
+    const Row d = in_child([&] { return solve_row(scene, dense); });
+    const std::array<std::uint32_t, 4> materials{0, 1, 2, 4};  // the lamps (3) only emit
+    std::printf(
+        "room3, hierarchical against the dense hemicube (per-material mean B, mean of "
+        "the bands):\n| seed | links | seconds | walls | table | teapot | shades |\n"
+        "|---|---|---|---|---|---|---|\n| dense | | %.2f |",
+        d.seconds);
+    for (const auto m : materials) std::printf(" %.5f |", d.mean[m]);
+    std::printf("\n");
+    std::array<std::vector<double>, 4> off;
+    for (int seed = 1; seed <= n; ++seed) {
+        radiosity::SolveOptions o{.solver = radiosity::SolverKind::hierarchical};
+        o.hierarchical.min_area = 0.25;  // a quarter of RRV's area rule, as the program takes
+        o.hierarchical.seed = std::uint64_t(seed);
+        const Row r = in_child([&] { return solve_row(scene, o); });
+        std::printf("| %d | %zu | %.2f |", seed, r.links, r.seconds);
+        for (std::size_t i = 0; i < materials.size(); ++i) {
+            off[i].push_back(100.0 * (r.mean[materials[i]] / d.mean[materials[i]] - 1.0));
+            std::printf(" %+.2f %% |", off[i].back());
+        }
+        std::printf("\n");
+        std::fflush(stdout);
+    }
+    std::printf("| min / median / max | | |");
+    for (auto& v : off) {
+        std::sort(v.begin(), v.end());
+        std::printf(" %+.2f / %+.2f / %+.2f |", v.front(), v[v.size() / 2], v.back());
+    }
+    std::printf("\n");
     return 0;
 }
 
@@ -158,11 +206,11 @@ int million(const std::string& obj_path, double edge, double link_error) {
     for (const auto& [name, x] : {std::pair{"tessellated", r}, std::pair{"few faces", few}})
         std::printf("| %s | %.1f | %.0f | %zu | %zu | %.1f | %zu | %.5f | %.5f | %.5f |\n", name,
                     x.seconds, x.peak_mb, x.elements, x.links,
-                    x.elements ? double(x.links) / double(x.elements) : 0.0, x.leaves, x.white,
-                    x.red, x.green);
+                    x.elements ? double(x.links) / double(x.elements) : 0.0, x.leaves, x.mean[0],
+                    x.mean[1], x.mean[2]);
     std::printf("tessellated vs few faces: white %+.2f %%, red %+.2f %%, green %+.2f %%\n",
-                100.0 * (r.white / few.white - 1.0), 100.0 * (r.red / few.red - 1.0),
-                100.0 * (r.green / few.green - 1.0));
+                100.0 * (r.mean[0] / few.mean[0] - 1.0), 100.0 * (r.mean[1] / few.mean[1] - 1.0),
+                100.0 * (r.mean[2] / few.mean[2] - 1.0));
     return 0;
 }
 
@@ -180,8 +228,9 @@ int main(int argc, char** argv) {
     }
     if (what == "ladder") return ladder();
     if (what == "million") return million(obj, edge, link_error);
+    if (what == "seeds") return seeds(argc > 2 ? std::max(1, std::atoi(argv[2])) : 8);
     std::fprintf(stderr,
                  "usage: bench_hierarchy ladder | million [--obj FILE] [--edge MM] "
-                 "[--link-error E]\n");
+                 "[--link-error E] | seeds [N]\n");
     return 2;
 }

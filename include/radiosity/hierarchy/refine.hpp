@@ -81,7 +81,8 @@ enum class Verdict : std::uint8_t { keep, receiver, source, self };
 /// BF refinement's oracle (Hanrahan et al. 1991), weighted by how much the transfer can vary
 /// over the pair: rho_r B_s T A_r (radius_r + radius_s) / d, with T the transfer without
 /// visibility (its bound where the estimate fails); above the threshold the larger splittable
-/// node (by bounding radius) is split. A cluster's self-link is always split.
+/// node (by bounding radius) is split, or the receiver of a partly visible link. A cluster's
+/// self-link is always split.
 inline Verdict judge(const Hierarchy& h, const Link& l, const OracleInputs& in,
                      const RefineSettings& s) {
     const NodeId r = l.receiver, src = l.source;
@@ -112,8 +113,15 @@ inline Verdict judge(const Hierarchy& h, const Link& l, const OracleInputs& in,
     const double shadow = partly_visible ? s.shadow_factor : 1.0;
     const double power = in.rho_max[r] * in.B_max[src] * T * h.area[r] * spread * shadow;
     if (!(power > s.threshold)) return Verdict::keep;
+    // Which end to split: the larger (Hanrahan et al. 1991), as its size bounds how much the
+    // transfer varies over the pair; but a shadow boundary that crosses the pair is drawn on
+    // the receiver, so a partly visible link splits its receiver first. Splitting the source
+    // instead leaves a coarse receiver under finer and finer sources, every one of them partly
+    // visible, whose mean then goes down alike to the lit and the shadowed parts of the
+    // receiver (room3: the per-material means moved toward the reference walk's, the table's
+    // excess halved, for no more links).
     const bool sr = splittable(h, r, s), ss = splittable(h, src, s);
-    if (sr && (!ss || h.radius[r] >= h.radius[src])) return Verdict::receiver;
+    if (sr && (!ss || partly_visible || h.radius[r] >= h.radius[src])) return Verdict::receiver;
     if (ss) return Verdict::source;
     return Verdict::keep;
 }
