@@ -33,8 +33,9 @@ struct HierarchicalOptions {
     double shadow_factor = 4.0;
     int max_depth = 24;  ///< deepest element level below an input face
     /// Multigrid passes before the final threshold, each refined at 4 times the next one's
-    /// threshold against the B of the pass before: one is enough for the final refinement to
-    /// see where light goes (more add links that the next pass refines again).
+    /// threshold against the B of the pass before (the first against E and the ambient term):
+    /// one is enough for the final refinement to see where light goes (more add links that the
+    /// next pass refines again).
     int coarse_passes = 1;
     /// Refine -> solve rounds at the final threshold, until no link splits (a second round
     /// adds a quarter more links for a change in B far below the link error).
