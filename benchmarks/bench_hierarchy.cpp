@@ -29,6 +29,7 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -87,22 +88,37 @@ Row solve_row(const radiosity::Mesh<Rgb>& scene, radiosity::SolveOptions o) {
     return row;
 }
 
-int ladder() {
+/// RRV's room3 from shared/, or nothing (and a line saying so) where it is not there.
+std::optional<radiosity::Mesh<Rgb>> room3() {
     const std::string path = std::string(RADIOSITY_SHARED_DIR) + "/rrv/room3.xml";
     if (!std::ifstream(path)) {
         std::printf("skipped: %s not found\n", path.c_str());
-        return 0;
+        return std::nullopt;
     }
-    const auto scene = radiosity::build_mesh(radiosity::read_rrv<Rgb>(path));
+    return radiosity::build_mesh(radiosity::read_rrv<Rgb>(path));
+}
+
+/// The dense hemicube solve of RRV's own patches (area rule 1, T-junctions as RRV leaves them).
+const radiosity::SolveOptions dense_rrv{.subdivision = {.max_area = 1.0, .conforming = false}};
+
+/// The hierarchical solve with leaves down to a quarter of RRV's area rule `divide`, as the
+/// program takes it.
+radiosity::SolveOptions hierarchical_rrv(double divide) {
+    radiosity::SolveOptions o{.solver = radiosity::SolverKind::hierarchical};
+    o.hierarchical.min_area = divide / 4.0;
+    return o;
+}
+
+int ladder() {
+    const auto scene = room3();
+    if (!scene) return 0;
     std::printf("room3, hierarchical (default link error 1e-4):\n");
     std::printf(
         "| area rule | min area | seconds | peak MB | elements | links | links/element "
         "| leaves | time ratio | memory ratio |\n|---|---|---|---|---|---|---|---|---|---|\n");
     Row before;
     for (const double divide : {1.0, 0.25, 0.0625, 0.015625}) {
-        radiosity::SolveOptions o{.solver = radiosity::SolverKind::hierarchical};
-        o.hierarchical.min_area = divide / 4.0;
-        const Row r = in_child([&] { return solve_row(scene, o); });
+        const Row r = in_child([&] { return solve_row(*scene, hierarchical_rrv(divide)); });
         std::printf("| %g | %g | %.2f | %.0f | %zu | %zu | %.1f | %zu |", divide, divide / 4.0,
                     r.seconds, r.peak_mb, r.elements, r.links,
                     r.elements ? double(r.links) / double(r.elements) : 0.0, r.leaves);
@@ -113,9 +129,8 @@ int ladder() {
         std::fflush(stdout);
         before = r;
     }
-    // The dense hemicube solve of RRV's own patches (area rule 1), where its matrix fits.
-    radiosity::SolveOptions dense{.subdivision = {.max_area = 1.0, .conforming = false}};
-    const Row d = in_child([&] { return solve_row(scene, dense); });
+    // The dense solve where its matrix fits (area rule 1).
+    const Row d = in_child([&] { return solve_row(*scene, dense_rrv); });
     std::printf("dense hemicube, area rule 1: %.2f s, %.0f MB peak, %zu patches (n^2 matrix)\n",
                 d.seconds, d.peak_mb, d.leaves);
     return 0;
@@ -124,14 +139,9 @@ int ladder() {
 /// Room3's per-material means at seeds 1..n against the dense hemicube solve of RRV's patches
 /// (the accuracy target's yardstick): the spread that the links' random rays alone give.
 int seeds(int n) {
-    const std::string path = std::string(RADIOSITY_SHARED_DIR) + "/rrv/room3.xml";
-    if (!std::ifstream(path)) {
-        std::printf("skipped: %s not found\n", path.c_str());
-        return 0;
-    }
-    const auto scene = radiosity::build_mesh(radiosity::read_rrv<Rgb>(path));
-    radiosity::SolveOptions dense{.subdivision = {.max_area = 1.0, .conforming = false}};
-    const Row d = in_child([&] { return solve_row(scene, dense); });
+    const auto scene = room3();
+    if (!scene) return 0;
+    const Row d = in_child([&] { return solve_row(*scene, dense_rrv); });
     const std::array<std::uint32_t, 4> materials{0, 1, 2, 4};  // the lamps (3) only emit
     std::printf(
         "room3, hierarchical against the dense hemicube (per-material mean B, mean of "
@@ -142,10 +152,9 @@ int seeds(int n) {
     std::printf("\n");
     std::array<std::vector<double>, 4> off;
     for (int seed = 1; seed <= n; ++seed) {
-        radiosity::SolveOptions o{.solver = radiosity::SolverKind::hierarchical};
-        o.hierarchical.min_area = 0.25;  // a quarter of RRV's area rule, as the program takes
+        radiosity::SolveOptions o = hierarchical_rrv(1.0);
         o.hierarchical.seed = std::uint64_t(seed);
-        const Row r = in_child([&] { return solve_row(scene, o); });
+        const Row r = in_child([&] { return solve_row(*scene, o); });
         std::printf("| %d | %zu | %.2f |", seed, r.links, r.seconds);
         for (std::size_t i = 0; i < materials.size(); ++i) {
             off[i].push_back(100.0 * (r.mean[materials[i]] / d.mean[materials[i]] - 1.0));
@@ -157,7 +166,8 @@ int seeds(int n) {
     std::printf("| min / median / max | | |");
     for (auto& v : off) {
         std::sort(v.begin(), v.end());
-        std::printf(" %+.2f / %+.2f / %+.2f |", v.front(), v[v.size() / 2], v.back());
+        const double median = (v[(v.size() - 1) / 2] + v[v.size() / 2]) / 2.0;
+        std::printf(" %+.2f / %+.2f / %+.2f |", v.front(), median, v.back());
     }
     std::printf("\n");
     return 0;

@@ -94,43 +94,23 @@ class HierarchySolve {
         std::vector<double> scratch;
         std::fill(v_.H.begin(), v_.H.end(), 0.0);
         push_pull(h_, v_, scratch);  // B = E at the leaves, means above
+        // One walk over the roots (the only elements yet): the emitted power, the link error's
+        // scale, and the area sums of E and rho that the ambient term takes.
         emitted_ = 0.0;
-        for (NodeId n = 0; n < h_.size(); ++n)
-            if (!h_.is_cluster(n)) {
-                double e = 0.0;
-                for (std::size_t k = 0; k < K; ++k) e = std::max(e, v_.E[n * K + k]);
-                emitted_ += e * h_.area[n];
-            }
-        floor_by_ambient();
-    }
-
-    /// Before the first solve the oracle knows only E, so every source that does not emit
-    /// looks black to it: the first pass would keep the top cluster links that carry all of
-    /// the indirect light, judged on nothing and estimated from a few samples each, and the
-    /// next pass refine from the B those give (on room3 the brightest leaf after the first
-    /// pass was 0.56 or 1.06 by the seed, the final links 218,000 to 328,000). So until then
-    /// each node's B_max is at least the ambient term of progressive refinement (Cohen, Chen,
-    /// Wallace & Greenberg 1988) for it: rho_max H with H = E_mean / (1 - rho_mean) per band,
-    /// means by area over the roots, the irradiance of a closed scene of that reflectance
-    /// (B_mean = E_mean + rho_mean B_mean), its reflectance taken at most 0.95. Open scenes
-    /// get less light than that: the first pass then refines a little more than it needs.
-    void floor_by_ambient() {
         std::array<double, K> E{}, rho{};
         double area = 0.0;
         for (NodeId n = 0; n < h_.size(); ++n)
-            if (!h_.is_cluster(n) && h_.depth[n] == 0) {  // the roots
+            if (!h_.is_cluster(n)) {
+                double e = 0.0;
                 for (std::size_t k = 0; k < K; ++k) {
+                    e = std::max(e, v_.E[n * K + k]);
                     E[k] += h_.area[n] * v_.E[n * K + k];
                     rho[k] += h_.area[n] * v_.rho[n * K + k];
                 }
+                emitted_ += e * h_.area[n];
                 area += h_.area[n];
             }
-        if (!(area > 0.0)) return;
-        double H = 0.0;  // the ambient irradiance, largest over the bands
-        for (std::size_t k = 0; k < K; ++k)
-            H = std::max(H, E[k] / area / (1.0 - std::min(rho[k] / area, 0.95)));
-        for (NodeId n = 0; n < h_.size(); ++n)
-            v_.B_max[n] = std::max(v_.B_max[n], v_.rho_max[n] * H);
+        floor_by_ambient(E, rho, area);
     }
 
     /// Measures exposure (exposure.hpp) from now on: `points` sample points per element, rays
@@ -230,6 +210,28 @@ class HierarchySolve {
     }
 
   private:
+    /// Before the first solve the oracle knows only E, so every source that does not emit
+    /// looks black to it: the first pass would keep the top cluster links that carry all of
+    /// the indirect light, judged on nothing and estimated from a few samples each, and the
+    /// next pass refine from the B those give (on room3 the brightest leaf after the first
+    /// pass was 0.56 or 1.06 by the seed, the final links 218,000 to 328,000). So until then
+    /// each node's B_max is at least the ambient term of progressive refinement (Cohen, Chen,
+    /// Wallace & Greenberg 1988) for it: rho_max H with H = E_mean / (1 - rho_mean) per band,
+    /// means by area over the roots, the irradiance of a closed scene of that reflectance
+    /// (B_mean = E_mean + rho_mean B_mean), its reflectance taken at most 0.95: the term
+    /// with_ambient (solver/progressive.hpp) adds for display, here of E instead of the
+    /// unshot radiosity. Open scenes get less light than that: the first pass then refines a
+    /// little more than it needs. E and rho: sums of A E and A rho over the roots, area theirs.
+    void floor_by_ambient(const std::array<double, K>& E, const std::array<double, K>& rho,
+                          double area) {
+        if (!(area > 0.0)) return;
+        double H = 0.0;  // the ambient irradiance, largest over the bands
+        for (std::size_t k = 0; k < K; ++k)
+            H = std::max(H, E[k] / area / (1.0 - std::min(rho[k] / area, 0.95)));
+        for (NodeId n = 0; n < h_.size(); ++n)
+            v_.B_max[n] = std::max(v_.B_max[n], v_.rho_max[n] * H);
+    }
+
     RefineSettings settings() const {
         RefineSettings s;
         s.min_area = o_.min_area > 0.0 ? o_.min_area : h_.area[0] * 1e-6;
