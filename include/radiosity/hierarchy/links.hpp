@@ -39,6 +39,15 @@ inline bool link_order(const Link& a, const Link& b) {
     return a.receiver < b.receiver || (a.receiver == b.receiver && a.source < b.source);
 }
 
+/// Sorts links by link_order. The same order by one 64-bit key per link (receiver in the high
+/// half), compared inline: std::sort through a function pointer called link_order itself for
+/// each comparison (room3: 3% of the solve).
+inline void sort_links(std::vector<Link>& links) {
+    const auto key = [](const Link& l) { return std::uint64_t(l.receiver) << 32 | l.source; };
+    std::sort(links.begin(), links.end(),
+              [&key](const Link& a, const Link& b) { return key(a) < key(b); });
+}
+
 /// A link's transfer coefficient and how far it can be trusted.
 struct Transfer {
     double coefficient = 0.0;  ///< T_rs, unoccluded irradiance at r per unit B_s

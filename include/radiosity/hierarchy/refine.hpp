@@ -291,18 +291,18 @@ Link evaluate_task(const Hierarchy& h, const V& scene, const Link& task, const R
     return sample_link(h, scene, task, s);
 }
 
-/// Carries out tasks (evaluate_task) with this rank's threads: the plain loop.
+/// Carries out tasks (evaluate_task) with this rank's threads into `links` (resized to the
+/// tasks'): the plain loop.
 template <Visibility V>
-std::vector<Link> evaluate_tasks(const Hierarchy& h, const V& scene, const std::vector<Link>& tasks,
-                                 const RefineSettings& s) {
-    std::vector<Link> links(tasks.size());
+void evaluate_tasks(const Hierarchy& h, const V& scene, const std::vector<Link>& tasks,
+                    const RefineSettings& s, std::vector<Link>& links) {
+    links.resize(tasks.size());
     const auto n = static_cast<std::int64_t>(tasks.size());
 #if defined(RADIOSITY_WITH_OPENMP)
 #pragma omp parallel for schedule(dynamic, 64)
 #endif
     for (std::int64_t i = 0; i < n; ++i)
         links[std::size_t(i)] = evaluate_task(h, scene, tasks[std::size_t(i)], s);
-    return links;
 }
 
 /// Carries out this rank's tasks of the round (the pairs to open, the kept links to sample)
@@ -312,17 +312,16 @@ std::vector<Link> evaluate_tasks(const Hierarchy& h, const V& scene, const std::
 /// there and the links back, in the order sent). Without it, a rank whose receivers made more
 /// of the round's work than its share keeps the others waiting at the round's end. A link is a
 /// function of its pair alone (its rays are seeded from the pair), so it has the same bits
-/// whichever rank evaluates it.
+/// whichever rank evaluates it. The links come back in `links`, in the order of `tasks`.
 template <Visibility V>
-std::vector<Link> evaluate_shared(const Hierarchy& h, const V& scene,
-                                  const std::vector<Link>& tasks, const RefineSettings& s,
-                                  RefineShare& share) {
+void evaluate_shared(const Hierarchy& h, const V& scene, const std::vector<Link>& tasks,
+                     const RefineSettings& s, RefineShare& share, std::vector<Link>& links) {
     Communicator& comm = share.comm;
     if (comm.size() == 1) {
         const auto t0 = std::chrono::steady_clock::now();
-        std::vector<Link> links = evaluate_tasks(h, scene, tasks, s);
+        evaluate_tasks(h, scene, tasks, s, links);
         share.compute_seconds += seconds_since(t0);
-        return links;
+        return;
     }
     // Where this rank's tasks start in the list of every rank's, counted in rays.
     std::uint64_t mine = 0;
@@ -343,14 +342,134 @@ std::vector<Link> evaluate_shared(const Hierarchy& h, const V& scene,
     std::vector<std::size_t> from;
     const std::vector<Link> came = all_to_all(comm, send, &from);
     const auto t0 = std::chrono::steady_clock::now();
-    const std::vector<Link> links = evaluate_tasks(h, scene, came, s);
+    evaluate_tasks(h, scene, came, s, links);
     share.compute_seconds += seconds_since(t0);
     // Back to the ranks that sent them, each in the order it sent them.
     std::vector<std::vector<Link>> back(ranks);
     for (std::size_t q = 0, k = 0; q < ranks; k += from[q], ++q)
         back[q].assign(links.begin() + std::ptrdiff_t(k),
                        links.begin() + std::ptrdiff_t(k + from[q]));
-    return all_to_all(comm, back);
+    links = all_to_all(comm, back);
+}
+
+/// A round's links are carried out in blocks of this many, in parallel, each block's output
+/// kept apart and the outputs joined in block order: the same lists, in the same order, for any
+/// number of threads. (One thread alone, these loops over a million links were a fifth of
+/// room3's refinement, with the other core waiting.)
+inline constexpr std::size_t round_block = 4096;
+
+/// Runs body(k, begin, end) for each block k of [0, n) of round_block items, blocks shared
+/// among threads. body must write only block k's own output.
+template <class Body>
+void for_each_block(std::size_t n, Body&& body) {
+    const auto blocks = static_cast<std::int64_t>((n + round_block - 1) / round_block);
+#if defined(RADIOSITY_WITH_OPENMP)
+#pragma omp parallel for schedule(dynamic, 1)
+#endif
+    for (std::int64_t k = 0; k < blocks; ++k) {
+        const std::size_t begin = std::size_t(k) * round_block;
+        body(std::size_t(k), begin, std::min(n, begin + round_block));
+    }
+}
+
+/// What one block of a round's links gives: links to sample (kept, not sampled yet), pairs to
+/// open (each a Link marked unopened), links to judge again, settled links, and splits made.
+struct RoundBlock {
+    std::vector<Link> to_sample, to_open, to_judge, settled;
+    std::vector<NodePair> fresh;  // scratch: the block's new pairs
+    std::uint64_t splits = 0;
+};
+
+/// Appends the `part` of every block to `out`, in block order.
+inline void join_blocks(std::vector<RoundBlock>& blocks, std::size_t count,
+                        std::vector<Link> RoundBlock::*part, std::vector<Link>& out) {
+    std::size_t size = out.size();
+    for (std::size_t k = 0; k < count; ++k) size += (blocks[k].*part).size();
+    if (size > out.capacity()) out.reserve(std::max(size, 2 * out.capacity()));  // amortised
+    for (std::size_t k = 0; k < count; ++k)
+        out.insert(out.end(), (blocks[k].*part).begin(), (blocks[k].*part).end());
+}
+
+/// The working vectors of a pass's rounds, kept from one round to the next: fresh ones each
+/// round cost more than their contents (page faults and copies as they grow from nothing).
+struct RoundBuffers {
+    std::vector<Verdict> verdict;    ///< per frontier link
+    std::vector<char> crosses;       ///< per frontier link: its split makes other ranks' receivers
+    std::vector<NodeId> to_split;    ///< elements to split this round
+    std::vector<RoundBlock> blocks;  ///< per block of round_block links
+    std::vector<Link> tasks;         ///< kept links to sample, then pairs to open
+    std::vector<Link> evaluated;     ///< the tasks carried out
+};
+
+/// Carries out this rank's verdicts on the frontier (those whose splits stay on this rank;
+/// apply_verdict), in parallel blocks: b.tasks gets the kept links still unsampled, then the
+/// new pairs to open, in frontier order; `done` the kept links already sampled. Returns the
+/// links split; throws if the links would pass max_links.
+inline std::uint64_t carry_out_verdicts(const Hierarchy& h, const std::vector<Link>& frontier,
+                                        RoundBuffers& b, std::vector<Link>& done,
+                                        std::size_t max_links) {
+    const std::size_t blocks = (frontier.size() + round_block - 1) / round_block;
+    if (b.blocks.size() < blocks) b.blocks.resize(blocks);
+    const auto anything = [](NodeId) { return true; };
+    for_each_block(frontier.size(), [&](std::size_t k, std::size_t begin, std::size_t end) {
+        RoundBlock& o = b.blocks[k];
+        o.to_sample.clear(), o.to_open.clear(), o.settled.clear(), o.fresh.clear();
+        o.splits = 0;
+        for (std::size_t i = begin; i < end; ++i)
+            if (!b.crosses[i])
+                o.splits +=
+                    apply_verdict(h, frontier[i], b.verdict[i], o.to_sample, o.fresh, anything);
+        // Kept links already sampled are settled; the rest wait for their rays.
+        std::erase_if(o.to_sample, [&](const Link& l) {
+            if (l.visibility == unsampled) return false;
+            o.settled.push_back(l);
+            return true;
+        });
+        for (const NodePair& p : o.fresh)
+            o.to_open.push_back({p.receiver, p.source, 0.0f, unopened});
+    });
+    std::uint64_t splits = 0;
+    std::size_t links = done.size();
+    for (std::size_t k = 0; k < blocks; ++k) {
+        const RoundBlock& o = b.blocks[k];
+        splits += o.splits;
+        links += o.to_sample.size() + o.to_open.size() + o.settled.size();
+    }
+    if (links > max_links)
+        throw Error("hierarchical radiosity: the refinement would hold more than " +
+                    std::to_string(max_links) + " links, past the memory limit; raise " +
+                    "--link-error or --min-area, or the limit (--max-memory)");
+    b.tasks.clear();
+    join_blocks(b.blocks, blocks, &RoundBlock::to_sample, b.tasks);
+    join_blocks(b.blocks, blocks, &RoundBlock::to_open, b.tasks);
+    join_blocks(b.blocks, blocks, &RoundBlock::settled, done);
+    return splits;
+}
+
+/// Sorts the round's evaluated links, in parallel blocks and in their order: opened links go to
+/// the next round's frontier, and so do sampled ones that their rays found partly visible
+/// (judge refines those further); the rest are settled in `done`; pairs that exchange nothing
+/// are dropped.
+inline void settle_evaluated(const Hierarchy& h, const RefineSettings& s, RoundBuffers& b,
+                             std::vector<Link>& frontier, std::vector<Link>& done) {
+    const std::vector<Link>& evaluated = b.evaluated;
+    const std::size_t blocks = (evaluated.size() + round_block - 1) / round_block;
+    if (b.blocks.size() < blocks) b.blocks.resize(blocks);
+    for_each_block(evaluated.size(), [&](std::size_t k, std::size_t begin, std::size_t end) {
+        RoundBlock& o = b.blocks[k];
+        o.to_judge.clear(), o.settled.clear();
+        for (std::size_t i = begin; i < end; ++i) {
+            const Link& l = evaluated[i];
+            if (l.visibility < 0.0f) continue;  // exchanges nothing: dropped
+            const bool judged_again =
+                l.visibility == unsampled ||
+                (l.visibility > 0.0f && l.visibility < 1.0f && splits_further(h, l, s));
+            (judged_again ? o.to_judge : o.settled).push_back(l);
+        }
+    });
+    frontier.clear();
+    join_blocks(b.blocks, blocks, &RoundBlock::to_judge, frontier);
+    join_blocks(b.blocks, blocks, &RoundBlock::settled, done);
 }
 
 /// One round of a pass: judge this rank's frontier; split, on every rank alike and in
@@ -363,11 +482,13 @@ std::vector<Link> evaluate_shared(const Hierarchy& h, const V& scene,
 /// all-to-alls and one reduction.
 template <Visibility V>
 void refine_round(Hierarchy& h, const V& scene, RefineRound& round, const RefineSettings& s,
-                  const OracleInputs& in, const NodesAdded& on_nodes, RefineShare& share) {
+                  const OracleInputs& in, const NodesAdded& on_nodes, RefineShare& share,
+                  RoundBuffers& b) {
     const int me = share.comm.rank();
     const auto owner = [&](NodeId n) { return share.partition.owner(h, n); };
     std::vector<Link>& frontier = round.frontier;
-    std::vector<Verdict> verdict(frontier.size(), Verdict::keep);
+    std::vector<Verdict>& verdict = b.verdict;
+    verdict.assign(frontier.size(), Verdict::keep);
     const auto t0 = std::chrono::steady_clock::now();
     const auto count = static_cast<std::int64_t>(frontier.size());
 #if defined(RADIOSITY_WITH_OPENMP)
@@ -376,14 +497,15 @@ void refine_round(Hierarchy& h, const V& scene, RefineRound& round, const Refine
     for (std::int64_t i = 0; i < count; ++i)
         verdict[std::size_t(i)] = judge(h, frontier[std::size_t(i)], in, s);
     share.compute_seconds += seconds_since(t0);
-    std::vector<NodeId> to_split;
+    std::vector<NodeId>& to_split = b.to_split;
+    to_split.clear();
     std::vector<SharedSplit> shared;
-    std::vector<bool> crosses(frontier.size(), false);  // per link, used again below
+    b.crosses.assign(frontier.size(), 0);
     for (std::size_t i = 0; i < frontier.size(); ++i) {
         if (const NodeId n = node_to_split(h, frontier[i], verdict[i]); n != no_node)
             to_split.push_back(n);
-        crosses[i] = crosses_ranks(h, frontier[i], verdict[i], owner);
-        if (crosses[i]) shared.push_back({frontier[i], std::uint32_t(verdict[i])});
+        b.crosses[i] = crosses_ranks(h, frontier[i], verdict[i], owner);
+        if (b.crosses[i]) shared.push_back({frontier[i], std::uint32_t(verdict[i])});
     }
     to_split = all_gather(share.comm, to_split);
     std::sort(to_split.begin(), to_split.end());
@@ -395,36 +517,20 @@ void refine_round(Hierarchy& h, const V& scene, RefineRound& round, const Refine
     }
     if (h.size() > before) on_nodes(before);
     shared = all_gather(share.comm, shared);
+    // The round's tasks: the kept links still unsampled, then the new pairs to open (this
+    // rank's verdicts', then those of the splits shared by every rank, each rank taking its
+    // receivers).
+    const std::uint64_t splits = carry_out_verdicts(h, frontier, b, round.done, share.max_links);
     std::vector<NodePair> fresh;
-    std::vector<Link> kept;
-    std::uint64_t splits = 0;
-    const auto anything = [](NodeId) { return true; };
-    const auto ours = [&](NodeId n) { return owner(n) == me; };
-    for (std::size_t i = 0; i < frontier.size(); ++i)
-        if (!crosses[i]) splits += apply_verdict(h, frontier[i], verdict[i], kept, fresh, anything);
     std::vector<Link> unused;
-    for (const SharedSplit& x : shared)  // every rank's, each rank taking its receivers
+    const auto ours = [&](NodeId n) { return owner(n) == me; };
+    for (const SharedSplit& x : shared)
         apply_verdict(h, x.link, Verdict(x.verdict), unused, fresh, ours);
-    // The round's tasks: the kept links still unsampled, then the new pairs to open.
-    if (round.done.size() + kept.size() + fresh.size() > share.max_links)
-        throw Error("hierarchical radiosity: the refinement would hold more than " +
-                    std::to_string(share.max_links) + " links, past the memory limit; raise " +
-                    "--link-error or --min-area, or the limit (--max-memory)");
-    std::vector<Link> tasks;
-    for (const Link& l : kept) (l.visibility == unsampled ? tasks : round.done).push_back(l);
-    for (const NodePair& p : fresh) tasks.push_back({p.receiver, p.source, 0.0f, unopened});
-    for (const Link& t : tasks)  // the work, where the next partition will weigh it
+    for (const NodePair& p : fresh) b.tasks.push_back({p.receiver, p.source, 0.0f, unopened});
+    for (const Link& t : b.tasks)  // the work, where the next partition will weigh it
         share.cost[h.member_begin[t.receiver]] += evaluation_cost(h, t, s);
-    frontier.clear();
-    // Opened links are judged next round; so are sampled ones that their rays found partly
-    // visible (judge refines those further); the rest are settled.
-    for (const Link& l : evaluate_shared(h, scene, tasks, s, share)) {
-        if (l.visibility < 0.0f) continue;  // exchanges nothing: dropped
-        const bool judged_again =
-            l.visibility == unsampled ||
-            (l.visibility > 0.0f && l.visibility < 1.0f && splits_further(h, l, s));
-        (judged_again ? frontier : round.done).push_back(l);
-    }
+    evaluate_shared(h, scene, b.tasks, s, share, b.evaluated);
+    settle_evaluated(h, s, b, frontier, round.done);
     std::array<std::uint64_t, 3> totals{splits, frontier.size(), round.done.size()};
     share.comm.sum_in_place(totals);
     round.splits += totals[0] + shared.size();
@@ -445,11 +551,12 @@ template <Visibility V>
 void refine_links(Hierarchy& h, const V& scene, RefineRound& round, const RefineSettings& s,
                   const std::function<OracleInputs()>& inputs, const NodesAdded& on_nodes,
                   RefineShare& share, const RoundDone& round_done) {
+    detail::RoundBuffers buffers;
     while (round.open > 0) {
-        detail::refine_round(h, scene, round, s, inputs(), on_nodes, share);
+        detail::refine_round(h, scene, round, s, inputs(), on_nodes, share, buffers);
         if (round_done && !round_done(round)) throw Cancelled();
     }
-    std::sort(round.done.begin(), round.done.end(), link_order);
+    sort_links(round.done);
 }
 
 }  // namespace radiosity

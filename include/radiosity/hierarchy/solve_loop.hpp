@@ -552,7 +552,7 @@ bool HierarchySolve<K>::resume(const std::string& file) {
     done = deal(done);
     frontier = deal(frontier);
     if (state_.iterating) {
-        std::sort(done.begin(), done.end(), link_order);
+        sort_links(done);
         links_ = std::move(done);
         return false;
     }
