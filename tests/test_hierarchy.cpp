@@ -17,6 +17,7 @@
 
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <set>
 #include <vector>
 
@@ -334,6 +335,85 @@ TEST_CASE("agreement with the dense ray-cast solve where blocks cast shadows") {
         worst = std::max(worst, std::abs(hm.at(material) / b - 1.0));
     MESSAGE("worst material off the dense ray-cast solve by " << worst);
     CHECK(worst < 0.02);
+}
+
+namespace {
+
+/// Howell's view factor between equal, parallel, directly opposed a x b rectangles c apart.
+double parallel_rectangles(double a, double b, double c) {
+    const double X = a / c, Y = b / c, x = 1.0 + X * X, y = 1.0 + Y * Y;
+    return 2.0 / (std::numbers::pi * X * Y) *
+           (std::log(std::sqrt(x * y / (x + y - 1.0))) +
+            X * std::sqrt(y) * std::atan(X / std::sqrt(y)) +
+            Y * std::sqrt(x) * std::atan(Y / std::sqrt(x)) - X * std::atan(X) - Y * std::atan(Y));
+}
+
+/// The box [-1, 1]^2 x [0, 2], faces out, each face cut into n x n squares of two triangles,
+/// face f of material f (0 bottom, 1 top, 2-5 the sides), and the square [-1, 1]^2 at z = 5
+/// facing down, of material 6: the top and the square are equal parallel squares 3 apart, and
+/// neither the square sees the sides and the bottom nor they it (it lies behind their planes).
+/// Below the minimum area, the box's triangles are reached by clusters alone.
+Scene<Rgb> box_under_square(int n, const Material<Rgb>& box_top, const Material<Rgb>& box_rest,
+                            const Material<Rgb>& square) {
+    Scene<Rgb> s;
+    const auto quad = [&](Vec3 o, Vec3 u, Vec3 v, std::uint32_t material, int cuts) {
+        const auto b = static_cast<std::uint32_t>(s.positions.size());
+        for (int j = 0; j <= cuts; ++j)
+            for (int i = 0; i <= cuts; ++i)
+                s.positions.push_back(o + (double(i) / cuts) * u + (double(j) / cuts) * v);
+        const auto id = [&](int i, int j) { return b + std::uint32_t(j * (cuts + 1) + i); };
+        for (int j = 0; j < cuts; ++j)
+            for (int i = 0; i < cuts; ++i) {
+                s.faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+                s.faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+                s.face_material.insert(s.face_material.end(), 2, material);
+            }
+    };
+    const Vec3 x(2, 0, 0), y(0, 2, 0), z(0, 0, 2);  // u x v is each face's outward normal
+    quad(Vec3(-1, -1, 0), y, x, 0, n);              // bottom (-z)
+    quad(Vec3(-1, -1, 2), x, y, 1, n);              // top (+z)
+    quad(Vec3(-1, -1, 0), x, z, 2, n);              // -y
+    quad(Vec3(-1, 1, 0), z, x, 3, n);               // +y
+    quad(Vec3(-1, -1, 0), z, y, 4, n);              // -x
+    quad(Vec3(1, -1, 0), y, z, 5, n);               // +x
+    quad(Vec3(-1, -1, 5), y, x, 6, 1);              // the square, facing down
+    s.materials = {box_rest, box_top, box_rest, box_rest, box_rest, box_rest, square};
+    return s;
+}
+
+}  // namespace
+
+TEST_CASE(
+    "clusters take light by the faces that face its source and send it by the faces that face "
+    "the receiver") {
+    const double F = parallel_rectangles(2.0, 2.0, 3.0);  // the top to the square, and back
+    const Material<Rgb> dark{Rgb(0.0f), Rgb(0.0f), "dark"}, grey{Rgb(0.0f), Rgb(0.5f), "grey"},
+        light{Rgb(1.0f), Rgb(0.0f), "light"};
+    HierarchicalOptions o;
+    o.min_area = 1.0;  // the box's triangles (0.02) are never split: clusters do it all
+    SUBCASE("taking: the square lights the box, whose top alone can see it") {
+        // B = rho H, the box's faces seeing only the square (a convex box), the square
+        // reflecting nothing: the top's B is rho F exactly, the sides' and bottom's 0. A
+        // cluster that handed its light to all its faces alike would give each about a sixth
+        // of what the top takes.
+        const auto r =
+            solve_hierarchical<Rgb>(build_mesh(box_under_square(10, grey, grey, light)), o, 1e-7);
+        const auto m = material_means(r.mesh);
+        MESSAGE("top " << m.at(1) << " (exact " << 0.5 * F << "), " << r.hierarchy.links
+                       << " links");
+        CHECK(m.at(1) == doctest::Approx(0.5 * F).epsilon(0.01));
+        for (std::uint32_t f : {0u, 2u, 3u, 4u, 5u}) CHECK(m.at(f) < 1e-12 * F);  // rounding
+    }
+    SUBCASE("sending: the box's top alone emits, and the square sees the top alone") {
+        // The square's B is rho F times the top's B = 1; a cluster sending the mean B of its
+        // faces would send a sixth of it.
+        const auto r =
+            solve_hierarchical<Rgb>(build_mesh(box_under_square(10, light, dark, grey)), o, 1e-7);
+        const auto m = material_means(r.mesh);
+        MESSAGE("square " << m.at(6) << " (exact " << 0.5 * F << "), " << r.hierarchy.links
+                          << " links");
+        CHECK(m.at(6) == doctest::Approx(0.5 * F).epsilon(0.01));
+    }
 }
 
 TEST_CASE("link coefficients are reciprocal: A_r T_rs = A_s T_sr") {

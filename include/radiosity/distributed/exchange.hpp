@@ -36,6 +36,15 @@ class ReceiverExchange {
     std::array<double, controls> share(const std::vector<double>& mine, std::size_t width,
                                        std::vector<double>& per_node,
                                        const std::array<double, controls>& control) {
+        return share(mine, width, control, [&](NodeId n, const double* values) {
+            std::copy_n(values, width, per_node.data() + n * width);
+        });
+    }
+
+    /// As above, each receiver's `width` values handed to put(node, values) instead.
+    template <class Put>
+    std::array<double, controls> share(const std::vector<double>& mine, std::size_t width,
+                                       const std::array<double, controls>& control, Put&& put) {
         // The buffers are kept from sweep to sweep: tens of MB at a million faces, which fresh
         // allocations would fault in page by page every sweep.
         std::vector<double>& message = message_;
@@ -53,8 +62,11 @@ class ReceiverExchange {
         for (std::size_t r = 0; r < bytes.size(); ++r) {
             const std::size_t n = counts_[r];
             RADIOSITY_ASSERT(bytes[r] == (n * width + controls) * sizeof(double));
-            for (std::size_t i = 0; i < n; ++i, ++node, at += width * sizeof(double))
-                std::memcpy(per_node.data() + receivers_[node] * width, at, width * sizeof(double));
+            values_.resize(width);
+            for (std::size_t i = 0; i < n; ++i, ++node, at += width * sizeof(double)) {
+                std::memcpy(values_.data(), at, width * sizeof(double));
+                put(receivers_[node], values_.data());
+            }
             for (std::size_t k = 0; k < controls; ++k, at += sizeof(double)) {
                 double c = 0.0;
                 std::memcpy(&c, at, sizeof c);
@@ -76,6 +88,7 @@ class ReceiverExchange {
     std::uint64_t last_bytes_ = 0;
     std::vector<double> message_;  // this rank's values and controls
     std::vector<std::byte> all_;   // every rank's
+    std::vector<double> values_;   // one receiver's, aligned
 };
 
 }  // namespace radiosity

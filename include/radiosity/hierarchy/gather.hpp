@@ -14,6 +14,16 @@
 /// light its links bring. Below a cluster this is the push by exposure that the isotropic
 /// cluster lacks (Sillion 1995 pushes to every face alike); below an element it is what keeps
 /// a wall's hidden strip under a pillar from taking light and dimming the wall around it.
+///
+/// A cluster's faces need not face alike (a box's top and sides, a room's corner), and the
+/// light a link brings falls on those that face its source. So a link into a cluster carries
+/// the shares of its light that the cluster's orientation classes took (nodes.hpp: +x, -x, +y,
+/// -y, +z, -z, by its samples), and push-pull hands each class's light down to the children in
+/// proportion to their exposed area in that class, S_c = sum of A e over their faces of the
+/// class (`facing_area`): a box's top, lit from above, takes the light its sides do not, and each
+/// class's light still reaches exactly the exposed faces of that class, so energy is kept.
+/// Flat clusters, and what a link does not split by class, go down by exposed area alone, as
+/// in Sillion's isotropic cluster; at a root element the light becomes its scalar irradiance.
 
 #include <radiosity/detail/parallel.hpp>
 #include <radiosity/hierarchy/links.hpp>
@@ -56,10 +66,33 @@ struct NodeValues {
     std::vector<double> rho_max, B_max;
     /// The share of the node's area that is exposed (exposure.hpp); 1 until measured.
     std::vector<double> exposure;
+    /// Per top node (clusters and roots, Hierarchy::top_nodes): its index among the mixed
+    /// clusters (Hierarchy::mixed), or no_node. Only those keep their light by orientation
+    /// class: a cluster whose faces face alike has one class, all of its light.
+    std::vector<NodeId> mixed;
+    /// Per mixed cluster: of H, what each orientation class of its faces took (facing_classes
+    /// values per band, class after class); the rest of H goes to every exposed face alike.
+    std::vector<double> Hc;
+    /// Per mixed cluster: the exposed area of its faces in each orientation class, S = sum of
+    /// A e over the faces of the class (facing_areas; facing_area() for any top node).
+    std::vector<double> S;
+    /// Per mixed cluster: the mean radiosity of its exposed faces in each orientation class,
+    /// weighted by their A e (facing_classes values per band, class after class; B where the
+    /// class is empty): what a link sends from the faces of that class (pull_classes).
+    std::vector<double> Bc;
 
     /// Gives nodes [from, h.size()) their parent's values (new children of a split element).
     void extend(const Hierarchy& h, std::size_t from) {
         const std::size_t n = h.size();
+        if (mixed.empty()) {  // the top nodes are all made at once, by build_hierarchy
+            NodeId count = 0;
+            mixed.resize(h.top_nodes(), no_node);
+            for (NodeId i = 0; i < mixed.size(); ++i)
+                if (h.is_cluster(i) && h.mixed(i)) mixed[i] = count++;
+            Hc.assign(std::size_t(count) * facing_classes * K, 0.0);
+            Bc.assign(Hc.size(), 0.0);
+            S.assign(std::size_t(count) * facing_classes, 0.0);
+        }
         for (auto* v : {&E, &rho, &B, &H}) v->resize(n * K, 0.0);
         rho_max.resize(n, 0.0);
         B_max.resize(n, 0.0);
@@ -82,26 +115,74 @@ struct NodeValues {
     double mean_radiosity(NodeId n, std::size_t k) const {
         return E[n * K + k] + exposure[n] * (B[n * K + k] - E[n * K + k]);
     }
+
+    /// Whether top node n is a mixed cluster.
+    bool is_mixed(NodeId n) const { return n < mixed.size() && mixed[n] != no_node; }
+
+    /// S of top node n in class d: a mixed cluster's from S; any other node has its faces in
+    /// one class (Hierarchy::classes), whose S is its exposed area A e.
+    double facing_area(const Hierarchy& h, NodeId n, std::size_t d) const {
+        if (is_mixed(n)) return S[mixed[n] * facing_classes + d];
+        return h.classes[n] == (1u << d) ? h.area[n] * exposure[n] : 0.0;
+    }
+
+    /// Zeroes H and Hc: every gather writes its receivers' and only those, so this is due
+    /// whenever the links change.
+    void clear_irradiance() {
+        std::fill(H.begin(), H.end(), 0.0);
+        std::fill(Hc.begin(), Hc.end(), 0.0);
+    }
 };
 
+/// The radiosity that link l sends: its source's B, or, from a cluster, the mean over the
+/// orientation classes of the cluster's per-class radiosity Bc, weighted by the shares of the
+/// link's light that each class sent (Link::sending).
+template <std::size_t K>
+std::array<double, K> sent(const Link& l, const NodeValues<K>& v) {
+    std::array<double, K> b{};
+    if (!measured(l.sending)) {
+        for (std::size_t k = 0; k < K; ++k) b[k] = v.B[l.source * K + k];
+        return b;
+    }
+    const double* Bc = &v.Bc[std::size_t(v.mixed[l.source]) * facing_classes * K];
+    for (std::size_t d = 0; d < facing_classes; ++d) {  // no branch on 0: they mispredict
+        const double w = double(l.sending[d]) * (1.0 / 255.0);
+        for (std::size_t k = 0; k < K; ++k) b[k] += w * Bc[d * K + k];
+    }
+    return b;
+}
+
 /// Gather: H_r = sum over r's links of T_rs V_rs B_s, receivers in parallel, each summing its
-/// links in their sorted order (the same sums for any thread count). Cost: O(links).
+/// links in their sorted order (the same sums for any thread count); a mixed cluster receiver
+/// also sums each link's light by the classes that took it (Link::facing) into Hc. Writes the
+/// receivers' H and Hc only: the others' must be 0 (NodeValues::clear_irradiance, due when the
+/// links change; a fill per sweep would write 300 MB at a million faces). Cost: O(links).
 template <std::size_t K>
 void gather_links(const std::vector<Link>& links, const LinkGroups& g, NodeValues<K>& v) {
-    std::fill(v.H.begin(), v.H.end(), 0.0);
     const auto groups = static_cast<std::int64_t>(g.receivers.size());
 #if defined(RADIOSITY_WITH_OPENMP)
 #pragma omp parallel for schedule(dynamic, 64) if (links.size() > 20000)
 #endif
     for (std::int64_t gi = 0; gi < groups; ++gi) {
+        const NodeId r = g.receivers[std::size_t(gi)];
+        const bool cluster = v.is_mixed(r);
         std::array<double, K> acc{};
+        std::array<double, facing_classes * K> by_class{};
         for (std::size_t i = g.begin[std::size_t(gi)]; i < g.begin[std::size_t(gi) + 1]; ++i) {
             const Link& l = links[i];
             const double t = double(l.coefficient) * double(l.visibility);
-            for (std::size_t k = 0; k < K; ++k) acc[k] += t * v.B[l.source * K + k];
+            const std::array<double, K> b = sent(l, v);
+            for (std::size_t k = 0; k < K; ++k) acc[k] += t * b[k];
+            if (!cluster || !measured(l.facing)) continue;
+            for (std::size_t d = 0; d < facing_classes; ++d) {
+                const double td = t * (double(l.facing[d]) * (1.0 / 255.0));
+                for (std::size_t k = 0; k < K; ++k) by_class[d * K + k] += td * b[k];
+            }
         }
-        const NodeId r = g.receivers[std::size_t(gi)];
         for (std::size_t k = 0; k < K; ++k) v.H[r * K + k] = acc[k];
+        if (cluster)
+            std::copy(by_class.begin(), by_class.end(),
+                      v.Hc.begin() + std::ptrdiff_t(v.mixed[r] * facing_classes * K));
     }
 }
 
@@ -112,29 +193,87 @@ double exposed_irradiance(const NodeValues<K>& v, std::size_t i, std::size_t k) 
     return v.exposure[i] > 0.0 ? v.H[i * K + k] / v.exposure[i] : 0.0;
 }
 
-/// Push-pull (the file comment): the exposed irradiance h of every ancestor added down to the
-/// leaves (push, ids increasing: parents come first), B = E + rho h at each leaf, then B
-/// pulled up as the exposed-area-weighted mean of the children (ids decreasing; the plain area
-/// mean where no child is exposed). Returns the largest change of a leaf's B (every band).
-/// Sequential and in a fixed order. Cost: O(nodes).
+/// S of every mixed cluster (NodeValues::S), from its children's (facing_area), bottom up.
+/// Due whenever the exposure changes. Cost: O(mixed clusters).
 template <std::size_t K>
-double push_pull(const Hierarchy& h, NodeValues<K>& v, std::vector<double>& total) {
-    const std::size_t n = h.size();
-    total.resize(n * K);
-    double change = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
-        const NodeId p = h.parent[i];
-        for (std::size_t k = 0; k < K; ++k)
-            total[i * K + k] =
-                exposed_irradiance(v, i, k) + (p == no_node ? 0.0 : total[p * K + k]);
-        if (!h.is_leaf(static_cast<NodeId>(i))) continue;
-        for (std::size_t k = 0; k < K; ++k) {  // B = E + rho H
-            const double b = v.E[i * K + k] + v.rho[i * K + k] * total[i * K + k];
-            change = std::max(change, std::abs(b - v.B[i * K + k]));
-            v.B[i * K + k] = b;
+void facing_areas(const Hierarchy& h, NodeValues<K>& v) {
+    for (std::size_t i = v.mixed.size(); i-- > 0;) {
+        if (!v.is_mixed(NodeId(i))) continue;
+        const NodeId a = h.first_child[i], b = a + 1;
+        for (std::size_t d = 0; d < facing_classes; ++d)
+            v.S[v.mixed[i] * facing_classes + d] = v.facing_area(h, a, d) + v.facing_area(h, b, d);
+    }
+}
+
+/// The push through mixed cluster i: the light of each orientation class, its links' (A Hc)
+/// and what its parent handed down (`down`, per mixed cluster), shared between its two children
+/// by their exposed area in the class (S_c / S_i); what is not split by class by their exposed
+/// area (A e). A mixed child keeps its share in `down`; any other (a cluster whose faces face
+/// alike, or a root) takes it as the irradiance of its exposed part, into total.
+template <std::size_t K>
+void push_mixed(const Hierarchy& h, const NodeValues<K>& v, NodeId i, std::vector<double>& down,
+                std::vector<double>& total) {
+    constexpr std::size_t C = facing_classes;
+    const std::size_t mi = v.mixed[i];
+    const double exposed = h.area[i] * v.exposure[i];
+    // The power of each class and band arriving at i, the rest (alike) last.
+    std::array<double, (C + 1) * K> P{};
+    for (std::size_t k = 0; k < K; ++k)
+        P[C * K + k] = h.area[i] * v.H[i * K + k] + down[(mi * (C + 1) + C) * K + k];
+    for (std::size_t d = 0; d < C; ++d)
+        for (std::size_t k = 0; k < K; ++k) {
+            const double own = h.area[i] * v.Hc[(mi * C + d) * K + k];
+            P[d * K + k] = own + down[(mi * (C + 1) + d) * K + k];
+            P[C * K + k] -= own;  // taken by class d
+        }
+    for (NodeId c = h.first_child[i]; c < h.first_child[i] + 2; ++c) {
+        const double ec = h.area[c] * v.exposure[c];
+        std::array<double, (C + 1) * K> mine{};
+        if (exposed > 0.0)  // else nothing of i is exposed: nothing goes down
+            for (std::size_t d = 0; d <= C; ++d) {
+                const double Si = d < C ? v.S[mi * C + d] : 0.0;
+                const double share = Si > 0.0 ? v.facing_area(h, c, d) / Si : ec / exposed;
+                for (std::size_t k = 0; k < K; ++k) mine[d * K + k] = P[d * K + k] * share;
+            }
+        if (v.is_mixed(c)) {
+            std::copy(mine.begin(), mine.end(),
+                      down.begin() + std::ptrdiff_t(v.mixed[c] * (C + 1) * K));
+            continue;
+        }
+        for (std::size_t k = 0; k < K; ++k) {
+            double sum = 0.0;
+            for (std::size_t d = 0; d <= C; ++d) sum += mine[d * K + k];
+            total[c * K + k] = ec > 0.0 ? sum / ec : 0.0;
         }
     }
-    for (std::size_t i = n; i-- > 0;) {
+}
+
+/// Bc of mixed cluster i from its children's (a child that is not mixed has one class, whose
+/// radiosity is its B): the S-weighted mean per class, the cluster's B where the class is empty.
+template <std::size_t K>
+void pull_classes(const Hierarchy& h, NodeValues<K>& v, NodeId i) {
+    constexpr std::size_t C = facing_classes;
+    double* out = &v.Bc[std::size_t(v.mixed[i]) * C * K];
+    for (std::size_t d = 0; d < C; ++d) {
+        const double Si = v.S[v.mixed[i] * C + d];
+        for (std::size_t k = 0; k < K; ++k) out[d * K + k] = Si > 0.0 ? 0.0 : v.B[i * K + k];
+        if (!(Si > 0.0)) continue;
+        for (NodeId c = h.first_child[i]; c < h.first_child[i] + 2; ++c) {
+            const double w = v.facing_area(h, c, d) / Si;
+            if (w == 0.0) continue;
+            const double* bc =
+                v.is_mixed(c) ? &v.Bc[(std::size_t(v.mixed[c]) * C + d) * K] : &v.B[c * K];
+            for (std::size_t k = 0; k < K; ++k) out[d * K + k] += w * bc[k];
+        }
+    }
+}
+
+/// Pull: B of every node with children the exposed-area-weighted mean of its children's (the
+/// plain area mean where none is exposed), Bc of the mixed clusters, and B_max the brightest
+/// leaf below. Ids decreasing: children before parents. Cost: O(nodes).
+template <std::size_t K>
+void pull(const Hierarchy& h, NodeValues<K>& v) {
+    for (std::size_t i = h.size(); i-- > 0;) {
         double bmax = 0.0;
         if (!h.is_leaf(static_cast<NodeId>(i))) {
             std::array<double, K> sum{}, exposed{};
@@ -151,12 +290,57 @@ double push_pull(const Hierarchy& h, NodeValues<K>& v, std::vector<double>& tota
             }
             for (std::size_t k = 0; k < K; ++k)
                 v.B[i * K + k] = exposed_area > 0.0 ? exposed[k] / exposed_area : sum[k] / area;
+            if (v.is_mixed(NodeId(i))) pull_classes(h, v, NodeId(i));
         } else {
             for (std::size_t k = 0; k < K; ++k) bmax = std::max(bmax, v.B[i * K + k]);
         }
         v.B_max[i] = bmax;  // the brightest leaf below: what the node's mean B may hide
     }
+}
+
+/// Push-pull (the file comment): push, ids increasing (parents first): a mixed cluster hands
+/// its light down by orientation class (push_mixed); any other node adds the exposed
+/// irradiance h = H / e of its own links to what came down to it (from a mixed parent, already
+/// in total; else its parent's total), and a leaf takes B = E + rho h. Then pull. Needs S
+/// current (facing_areas). Returns the largest change of a leaf's B (every band). Sequential
+/// and in a fixed order. Cost: O(nodes).
+template <std::size_t K>
+double push_pull(const Hierarchy& h, NodeValues<K>& v, std::vector<double>& total,
+                 std::vector<double>& down) {
+    const std::size_t n = h.size();
+    total.resize(n * K);
+    down.resize(v.S.size() / facing_classes * (facing_classes + 1) * K);
+    if (v.is_mixed(0)) std::fill_n(down.begin(), (facing_classes + 1) * K, 0.0);  // the top's
+    double change = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        if (v.is_mixed(NodeId(i))) {
+            push_mixed(h, v, NodeId(i), down, total);
+            continue;
+        }
+        const NodeId p = h.parent[i];
+        const bool from_mixed = p != no_node && v.is_mixed(p);  // total[i] set by push_mixed
+        for (std::size_t k = 0; k < K; ++k) {
+            const double above =
+                p == no_node ? 0.0 : (from_mixed ? total[i * K + k] : total[p * K + k]);
+            total[i * K + k] = above + exposed_irradiance(v, i, k);
+        }
+        if (!h.is_leaf(static_cast<NodeId>(i))) continue;
+        for (std::size_t k = 0; k < K; ++k) {  // B = E + rho H
+            const double b = v.E[i * K + k] + v.rho[i * K + k] * total[i * K + k];
+            change = std::max(change, std::abs(b - v.B[i * K + k]));
+            v.B[i * K + k] = b;
+        }
+    }
+    pull(h, v);
     return change;
+}
+
+/// push_pull with scratch of its own, S computed first (where the exposure may have changed).
+template <std::size_t K>
+double push_pull(const Hierarchy& h, NodeValues<K>& v, std::vector<double>& total) {
+    std::vector<double> down;
+    facing_areas(h, v);
+    return push_pull(h, v, total, down);
 }
 
 /// The sum of T V over each group's links (a row of the operator the links define), in the

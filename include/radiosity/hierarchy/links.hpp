@@ -21,17 +21,70 @@
 
 namespace radiosity {
 
-/// A link: receiver r gathers H_r += coefficient * visibility * B_s from source s. 16 bytes.
+/// A link: receiver r gathers H_r += coefficient * visibility * B_s from source s. 28 bytes.
 /// The coefficient is the unoccluded transfer (the form factor F_rs for two elements) and the
 /// visibility the fraction of rays between them that nothing blocks, kept apart so that the
-/// refinement oracle can judge a shadowed link by what it would carry unshadowed.
+/// refinement oracle can judge a shadowed link by what it would carry unshadowed. A link with
+/// a cluster at either end also carries how its light divides among the orientation classes
+/// of the cluster's faces: at the receiver, the faces that take it (`facing`: push-pull hands
+/// it to those that face the source), at the source, those that send it (`sending`: the
+/// gather takes the radiosity of the faces that face the receiver, not the whole cluster's
+/// mean). See gather.hpp.
 struct Link {
     NodeId receiver;    ///< r
     NodeId source;      ///< s
     float coefficient;  ///< T_rs, unoccluded
     float visibility;   ///< V_rs in [0, 1]
+    /// Into a cluster: the share of the link's irradiance that the faces of each orientation
+    /// class take, in 255ths (summing to 255); all 0 where unmeasured (an element receiver, a
+    /// link that brings nothing), which push-pull hands to every exposed face alike.
+    std::array<std::uint8_t, facing_classes> facing{};
+    /// From a cluster: the share of the link's irradiance that its faces of each orientation
+    /// class send, in 255ths (summing to 255); all 0 where unmeasured (an element source, a
+    /// link that brings nothing), where the gather takes the cluster's mean radiosity.
+    std::array<std::uint8_t, facing_classes> sending{};
 };
-static_assert(sizeof(Link) == 16);
+static_assert(sizeof(Link) == 28);
+
+/// Whether a link's split among orientation classes was measured (is not all 0). (Not by
+/// operator==, which calls memcmp: 5% of room3's solve.)
+inline bool measured(const std::array<std::uint8_t, facing_classes>& split) {
+    unsigned any = 0;
+    for (const std::uint8_t x : split) any |= x;
+    return any != 0;
+}
+
+/// Shares (non-negative, any sum) in 255ths that sum to 255, by largest remainders (Hamilton's
+/// method), so that rounding neither makes nor loses light; all 0 where the shares sum to 0.
+inline std::array<std::uint8_t, facing_classes> in_255ths(
+    const std::array<double, facing_classes>& share) {
+    std::array<std::uint8_t, facing_classes> q{};
+    double sum = 0.0;
+    int nonzero = 0;
+    for (double x : share) {
+        sum += x;
+        nonzero += x > 0.0 ? 1 : 0;
+    }
+    if (!(sum > 0.0)) return q;
+    if (nonzero == 1) {  // the common case: all in one class
+        for (std::size_t d = 0; d < facing_classes; ++d) q[d] = share[d] > 0.0 ? 255 : 0;
+        return q;
+    }
+    std::array<double, facing_classes> rest{};
+    int given = 0;
+    for (std::size_t d = 0; d < facing_classes; ++d) {
+        const double x = 255.0 * share[d] / sum;
+        q[d] = static_cast<std::uint8_t>(std::floor(x));
+        rest[d] = x - q[d];
+        given += q[d];
+    }
+    for (; given < 255; ++given) {  // at most facing_classes - 1 more, to the largest remainders
+        const auto d = std::size_t(std::max_element(rest.begin(), rest.end()) - rest.begin());
+        ++q[d];
+        rest[d] = -1.0;
+    }
+    return q;
+}
 
 /// The order of a rank's links for every gather: by receiver, then source (a strict weak
 /// order; links are unique per pair, so the sorted order never depends on where they came from).
@@ -223,6 +276,11 @@ inline Vec3 uniform_point(const Hierarchy& h, NodeId n, Rng& rng, std::uint32_t&
 struct SampledTransfer {
     double coefficient = 0.0;  ///< T_rs, unoccluded
     double visibility = 1.0;   ///< the visible fraction, weighted by what each sample carries
+    /// A mixed cluster receiver (Hierarchy::mixed): what its visible samples brought, by the
+    /// orientation class of the face each lay on; zero for any other receiver.
+    std::array<double, facing_classes> facing{};
+    /// A mixed cluster source: the same by the class of the source face each sample came from.
+    std::array<double, facing_classes> sending{};
 };
 
 namespace detail {
@@ -295,8 +353,12 @@ class FaceChoice {
 /// overlapping nodes are estimated as well as far ones; beyond 4 reaches, the kernel at a
 /// uniform point y of b times A_b, the same in expectation and cheaper), and V = sum w V / sum w
 /// from one ray per sample to y. This is the irradiance averaged over the receiver, so
-/// the energy a cluster gathers is right whatever its surfaces' orientations. Seeded by the two
-/// nodes' keys. Cost: `samples` contour integrals and rays.
+/// the energy a cluster gathers is right whatever its surfaces' orientations; and, for a
+/// cluster receiver, the visible samples' w summed by the orientation class of the face each
+/// lay on (an unbiased estimate of what each class takes: a box's top facing the light takes
+/// it all, its sides none); for a cluster source, by the class of the face each came from.
+/// Seeded by the two nodes' keys. Cost: `samples` contour integrals
+/// and rays.
 template <Visibility V>
 SampledTransfer sampled_transfer(const Hierarchy& h, const V& scene, NodeId r, NodeId s,
                                  int samples, std::uint64_t seed) {
@@ -305,6 +367,8 @@ SampledTransfer sampled_transfer(const Hierarchy& h, const V& scene, NodeId r, N
     std::optional<detail::FaceChoice> choice;
     if (h.is_cluster(s)) choice.emplace(h, r, s);
     double sum = 0.0, seen = 0.0;
+    std::array<double, facing_classes> facing{}, sending{};
+    const bool split_r = h.is_cluster(r) && h.mixed(r), split_s = h.is_cluster(s) && h.mixed(s);
     for (int i = 0; i < samples; ++i) {
         std::uint32_t a = 0, b = 0;
         const Vec3 x = detail::uniform_point(h, r, rng, a);
@@ -325,10 +389,15 @@ SampledTransfer sampled_transfer(const Hierarchy& h, const V& scene, NodeId r, N
             (far ? form_factor_kernel(x, nx, y, ny) * area_b : point_to_polygon(x, nx, face)) / p;
         if (w == 0.0) continue;
         sum += w;
-        if (!scene.occluded(x, y, a, b)) seen += w;
+        if (scene.occluded(x, y, a, b)) continue;
+        seen += w;
+        // Which of a mixed cluster's faces took it, by orientation, and which sent it (a
+        // cluster whose faces face alike needs neither: its one class is all of it).
+        if (split_r) facing[facing_class(nx)] += w;
+        if (split_s) sending[facing_class(ny)] += w;
     }
-    if (sum == 0.0) return {0.0, 1.0};
-    return {sum / samples, seen / sum};
+    if (sum == 0.0) return {0.0, 1.0, {}, {}};
+    return {sum / samples, seen / sum, facing, sending};
 }
 
 /// The visibility V_rs of a link between two elements: the kernel-weighted fraction

@@ -225,6 +225,8 @@ Link sample_link(const Hierarchy& h, const V& scene, Link l, const RefineSetting
             sampled_transfer(h, scene, r, s, settings.cluster_samples, settings.seed);
         l.coefficient = static_cast<float>(st.coefficient);
         l.visibility = static_cast<float>(st.visibility);
+        l.facing = in_255ths(st.facing);
+        l.sending = in_255ths(st.sending);
     } else {
         // The transfer it was judged on is the estimate; a kept link carries the full one
         // (the same number but for near pairs that need the quadrature).

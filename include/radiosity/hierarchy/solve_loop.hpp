@@ -182,8 +182,13 @@ class HierarchySolve {
     const NodeValues<K>& values() const { return v_; }         ///< E, rho, B, H per node
     /// Bytes of nodes, values and this rank's links.
     std::size_t bytes() const {
+        // Per node E, rho, B, H, push-pull's total and rho_max, B_max, exposure; per mixed
+        // cluster Hc, Bc, S and push-pull's `down` (the classes and the rest); per top node
+        // its index among the mixed.
         return h_.bytes() + links_.capacity() * sizeof(Link) +
-               h_.size() * (4 * K + 3) * sizeof(double);
+               h_.size() * (5 * K + 3) * sizeof(double) +
+               v_.S.size() / facing_classes * ((3 * K + 1) * facing_classes + K) * sizeof(double) +
+               v_.mixed.size() * sizeof(NodeId);
     }
     /// A hash of everything that decides the result: the roots' geometry and materials and the
     /// options; a checkpoint carries it, and is refused by a run whose hash differs.
@@ -360,10 +365,15 @@ class HierarchySolve {
                  Report& report, HierarchyReport& hr) {
         const LinkGroups groups = group_links(links_);
         ReceiverExchange exchange(*comm_, groups);
-        std::vector<double> row(h_.size(), 0.0), total, mine;
-        if (comm_->size() > 1) mine.resize(groups.receivers.size() * K);  // the exchange's
+        std::vector<double> row(h_.size(), 0.0), total, down, mine;
+        // The exchange's: per receiver, H and, for a cluster, its orientation classes' Hc.
+        constexpr std::size_t width = K * (1 + facing_classes);
+        if (comm_->size() > 1) mine.resize(groups.receivers.size() * width);
         exchange.share(link_rows(links_, groups), 1, row, {});
         q_rows_ = hierarchy_contraction(h_, std::move(row), v_);
+        v_.clear_irradiance();  // the links changed: gathers write their receivers' only
+        facing_areas(h_, v_);   // the exposure may have changed with them
+        pull(h_, v_);  // Bc from B under these S (a resumed solve has B from its checkpoint only)
         for (;;) {
             auto t = std::chrono::steady_clock::now();
             gather_links(links_, groups, v_);
@@ -371,15 +381,25 @@ class HierarchySolve {
             t = std::chrono::steady_clock::now();
             std::array<double, 2> control{checkpoint_due(), stop_ ? 1.0 : 0.0};
             if (comm_->size() > 1) {  // one process has every receiver's H already
-                for (std::size_t g = 0; g < groups.receivers.size(); ++g)
-                    for (std::size_t k = 0; k < K; ++k)
-                        mine[g * K + k] = v_.H[groups.receivers[g] * K + k];
-                control = exchange.share(mine, K, v_.H, control);
+                constexpr std::size_t C = facing_classes * K;
+                for (std::size_t g = 0; g < groups.receivers.size(); ++g) {
+                    const NodeId r = groups.receivers[g];
+                    double* out = &mine[g * width];
+                    std::copy_n(&v_.H[r * K], K, out);
+                    if (v_.is_mixed(r))
+                        std::copy_n(&v_.Hc[v_.mixed[r] * C], C, out + K);
+                    else
+                        std::fill_n(out + K, C, 0.0);
+                }
+                control = exchange.share(mine, width, control, [&](NodeId r, const double* in) {
+                    std::copy_n(in, K, &v_.H[r * K]);
+                    if (v_.is_mixed(r)) std::copy_n(in + K, C, &v_.Hc[v_.mixed[r] * C]);
+                });
             }
             hr.exchange_seconds += seconds_since(t);
             hr.exchange_bytes_per_sweep = exchange.last_bytes();
             t = std::chrono::steady_clock::now();
-            const double change = push_pull(h_, v_, total);
+            const double change = push_pull(h_, v_, total, down);
             hr.push_pull_seconds += seconds_since(t);
             const bool done = sweep_done(change, tolerance, cap, progress, report);
             // One process decides after the sweep (a stop beats convergence, as in the other
