@@ -4,7 +4,11 @@
 #include <radiosity/radiosity.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
+#include <map>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -14,23 +18,31 @@ using radiosity::Rgb;
 
 /// The Cornell box with every face cut into triangles of about `edge` (mm): each input face
 /// (triangles and quads in the built-in box) split into an n x n grid of its own shape, quads'
-/// cells into two triangles.
-inline radiosity::Scene<Rgb> tessellated_box(double edge) {
+/// cells into two triangles. `origin`, if given, receives for each triangle the index of the
+/// box's face it was cut from.
+inline radiosity::Scene<Rgb> tessellated_box(double edge,
+                                             std::vector<std::uint32_t>* origin = nullptr) {
     radiosity::Scene<Rgb> in = radiosity::cornell_box<Rgb>(true), out;
     out.materials = in.materials;
     out.source = "Cornell box, tessellated";
     out.metres_per_unit = in.metres_per_unit;
-    std::vector<std::pair<std::vector<radiosity::Vec3>, std::uint32_t>> pieces;
-    for (std::size_t f = 0; f < in.faces.size(); ++f) {  // triangles and quads; others fanned
+    struct Piece {
+        std::vector<radiosity::Vec3> p;
+        std::uint32_t face;
+    };
+    std::vector<Piece> pieces;
+    for (std::uint32_t f = 0; f < in.faces.size(); ++f) {  // triangles and quads; others fanned
         std::vector<radiosity::Vec3> p;
         for (auto v : in.faces[f]) p.push_back(in.positions[v]);
         if (p.size() <= 4)
-            pieces.push_back({p, in.face_material[f]});
+            pieces.push_back({p, f});
         else
             for (std::size_t k = 1; k + 1 < p.size(); ++k)
-                pieces.push_back({{p[0], p[k], p[k + 1]}, in.face_material[f]});
+                pieces.push_back({{p[0], p[k], p[k + 1]}, f});
     }
-    for (const auto& [p, material] : pieces) {
+    if (origin) origin->clear();
+    for (const auto& [p, face] : pieces) {
+        const std::uint32_t material = in.face_material[face];
         double longest = 0.0;
         for (std::size_t k = 0; k < p.size(); ++k)
             longest = std::max(longest, glm::length(p[(k + 1) % p.size()] - p[k]));
@@ -51,9 +63,11 @@ inline radiosity::Scene<Rgb> tessellated_box(double edge) {
                 if (p.size() == 3 && i + j >= n) continue;
                 out.faces.push_back({id(i, j), id(i + 1, j), id(i, j + 1)});
                 out.face_material.push_back(material);
+                if (origin) origin->push_back(face);
                 if (p.size() == 3 && i + j + 1 >= n) continue;
                 out.faces.push_back({id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
                 out.face_material.push_back(material);
+                if (origin) origin->push_back(face);
             }
     }
     return out;
@@ -69,6 +83,52 @@ inline double material_mean(const radiosity::Mesh<Rgb>& mesh, std::uint32_t m) {
         area += a;
     }
     return area > 0.0 ? sum / area : 0.0;
+}
+
+/// The surfaces of a scene: its faces grouped by material and plane (Newell normal to 0.01,
+/// offset to 1 unit), so that the cells of one wall are one surface. Returns the surface of
+/// each face and, in `names`, one name per surface (material and normal).
+inline std::vector<std::uint32_t> surfaces_of(const radiosity::Scene<Rgb>& s,
+                                              std::vector<std::string>& names) {
+    std::map<std::array<long, 5>, std::uint32_t> index;
+    std::vector<std::uint32_t> surface;
+    names.clear();
+    for (std::size_t f = 0; f < s.faces.size(); ++f) {
+        std::vector<radiosity::Vec3> p;
+        for (auto v : s.faces[f]) p.push_back(s.positions[v]);
+        radiosity::Vec3 n(0.0);  // Newell's normal
+        for (std::size_t k = 0; k < p.size(); ++k) n += glm::cross(p[k], p[(k + 1) % p.size()]);
+        n = glm::normalize(n);
+        const double offset = glm::dot(n, p[0]);
+        const std::array<long, 5> key{long(s.face_material[f]), std::lround(n.x * 100),
+                                      std::lround(n.y * 100), std::lround(n.z * 100),
+                                      std::lround(offset)};
+        const auto [it, fresh] = index.emplace(key, std::uint32_t(names.size()));
+        if (fresh) {
+            char name[96];
+            std::snprintf(name, sizeof name, "%s (%+.2f %+.2f %+.2f) at %.0f",
+                          s.materials[s.face_material[f]].name.c_str(), n.x, n.y, n.z, offset);
+            names.push_back(name);
+        }
+        surface.push_back(it->second);
+    }
+    return surface;
+}
+
+/// Area-weighted means of the mean band of B per surface: `surface_of_input` maps the input
+/// face that each patch was cut from (its `surface` index) to its surface.
+inline std::vector<double> surface_means(const radiosity::Mesh<Rgb>& mesh,
+                                         const std::vector<std::uint32_t>& surface_of_input,
+                                         std::size_t surfaces) {
+    std::vector<double> sum(surfaces, 0.0), area(surfaces, 0.0);
+    for (auto f : mesh.faces()) {
+        const std::uint32_t g = surface_of_input.at(mesh.data(f).surface);
+        const double a = radiosity::polygon_area(radiosity::face_polygon(mesh, f));
+        sum[g] += a * radiosity::mean_band(mesh.data(f).radiosity);
+        area[g] += a;
+    }
+    for (std::size_t g = 0; g < surfaces; ++g) sum[g] = area[g] > 0.0 ? sum[g] / area[g] : 0.0;
+    return sum;
 }
 
 }  // namespace bench
