@@ -391,27 +391,26 @@ TEST_CASE(
         light{Rgb(1.0f), Rgb(0.0f), "light"};
     HierarchicalOptions o;
     o.min_area = 1.0;  // the box's triangles (0.02) are never split: clusters do it all
+    const auto solved = [&](const Scene<Rgb>& scene) {
+        const auto r = solve_hierarchical<Rgb>(build_mesh(scene), o, 1e-7);
+        MESSAGE(r.hierarchy.links << " links; exact " << 0.5 * F);
+        return material_means(r.mesh);
+    };
     SUBCASE("taking: the square lights the box, whose top alone can see it") {
         // B = rho H, the box's faces seeing only the square (a convex box), the square
         // reflecting nothing: the top's B is rho F exactly, the sides' and bottom's 0. A
         // cluster that handed its light to all its faces alike would give each about a sixth
         // of what the top takes.
-        const auto r =
-            solve_hierarchical<Rgb>(build_mesh(box_under_square(10, grey, grey, light)), o, 1e-7);
-        const auto m = material_means(r.mesh);
-        MESSAGE("top " << m.at(1) << " (exact " << 0.5 * F << "), " << r.hierarchy.links
-                       << " links");
+        const auto m = solved(box_under_square(10, grey, grey, light));
+        MESSAGE("top " << m.at(1));
         CHECK(m.at(1) == doctest::Approx(0.5 * F).epsilon(0.01));
         for (std::uint32_t f : {0u, 2u, 3u, 4u, 5u}) CHECK(m.at(f) < 1e-12 * F);  // rounding
     }
     SUBCASE("sending: the box's top alone emits, and the square sees the top alone") {
         // The square's B is rho F times the top's B = 1; a cluster sending the mean B of its
         // faces would send a sixth of it.
-        const auto r =
-            solve_hierarchical<Rgb>(build_mesh(box_under_square(10, light, dark, grey)), o, 1e-7);
-        const auto m = material_means(r.mesh);
-        MESSAGE("square " << m.at(6) << " (exact " << 0.5 * F << "), " << r.hierarchy.links
-                          << " links");
+        const auto m = solved(box_under_square(10, light, dark, grey));
+        MESSAGE("square " << m.at(6));
         CHECK(m.at(6) == doctest::Approx(0.5 * F).epsilon(0.01));
     }
 }

@@ -88,7 +88,7 @@ struct NodeValues {
             NodeId count = 0;
             mixed.resize(h.top_nodes(), no_node);
             for (NodeId i = 0; i < mixed.size(); ++i)
-                if (h.is_cluster(i) && h.mixed(i)) mixed[i] = count++;
+                if (h.mixed(i)) mixed[i] = count++;
             Hc.assign(std::size_t(count) * facing_classes * K, 0.0);
             Bc.assign(Hc.size(), 0.0);
             S.assign(std::size_t(count) * facing_classes, 0.0);

@@ -60,16 +60,8 @@ inline std::array<std::uint8_t, facing_classes> in_255ths(
     const std::array<double, facing_classes>& share) {
     std::array<std::uint8_t, facing_classes> q{};
     double sum = 0.0;
-    int nonzero = 0;
-    for (double x : share) {
-        sum += x;
-        nonzero += x > 0.0 ? 1 : 0;
-    }
+    for (double x : share) sum += x;
     if (!(sum > 0.0)) return q;
-    if (nonzero == 1) {  // the common case: all in one class
-        for (std::size_t d = 0; d < facing_classes; ++d) q[d] = share[d] > 0.0 ? 255 : 0;
-        return q;
-    }
     std::array<double, facing_classes> rest{};
     int given = 0;
     for (std::size_t d = 0; d < facing_classes; ++d) {
@@ -357,8 +349,7 @@ class FaceChoice {
 /// cluster receiver, the visible samples' w summed by the orientation class of the face each
 /// lay on (an unbiased estimate of what each class takes: a box's top facing the light takes
 /// it all, its sides none); for a cluster source, by the class of the face each came from.
-/// Seeded by the two nodes' keys. Cost: `samples` contour integrals
-/// and rays.
+/// Seeded by the two nodes' keys. Cost: `samples` contour integrals and rays.
 template <Visibility V>
 SampledTransfer sampled_transfer(const Hierarchy& h, const V& scene, NodeId r, NodeId s,
                                  int samples, std::uint64_t seed) {
@@ -368,7 +359,7 @@ SampledTransfer sampled_transfer(const Hierarchy& h, const V& scene, NodeId r, N
     if (h.is_cluster(s)) choice.emplace(h, r, s);
     double sum = 0.0, seen = 0.0;
     std::array<double, facing_classes> facing{}, sending{};
-    const bool split_r = h.is_cluster(r) && h.mixed(r), split_s = h.is_cluster(s) && h.mixed(s);
+    const bool split_r = h.mixed(r), split_s = h.mixed(s);
     for (int i = 0; i < samples; ++i) {
         std::uint32_t a = 0, b = 0;
         const Vec3 x = detail::uniform_point(h, r, rng, a);

@@ -86,7 +86,8 @@ struct Hierarchy {
     bool is_cluster(NodeId n) const { return corner_count[n] == 0; }    ///< cluster or element
     bool is_leaf(NodeId n) const { return first_child[n] == no_node; }  ///< no children
     /// A cluster whose roots fall in more than one orientation class: its faces do not all
-    /// face alike, so its links split their light by class (gather.hpp).
+    /// face alike, so its links split their light by class (gather.hpp). Never an element
+    /// (one class, or none below the roots).
     bool mixed(NodeId n) const { return std::popcount(unsigned(classes[n])) > 1; }
     std::uint32_t root_of(NodeId n) const { return order[member_begin[n]]; }  ///< element's root
     /// An element's polygon (3 or 4 corners).
