@@ -1,9 +1,13 @@
 // Core types: spectra, polygons, the patch table, mesh building and the matrix checks.
+#include <radiosity/detail/bulk_memory.hpp>
 #include <radiosity/form_factor/matrix.hpp>
 #include <radiosity/mesh/mesh.hpp>
 #include <radiosity/solver/system.hpp>
 
 #include <doctest/doctest.h>
+
+#include <cstdint>
+#include <vector>
 
 using namespace radiosity;
 
@@ -74,4 +78,25 @@ TEST_CASE("check_matrix measures reciprocity and row sums") {
     CHECK(c.max_row_sum == doctest::Approx(1.0));
     F.row(1)[0] = 0.25f;
     CHECK(check_matrix(F, area).reciprocity_error == doctest::Approx(0.5));
+}
+
+TEST_CASE("the bulk allocator keeps a list's values as it grows past a huge page") {
+    // Small lists come from operator new, those of a huge page (2 MiB) and more from a mapping
+    // aligned to it; growing across that size moves the values from one to the other and back.
+    std::vector<std::uint64_t, detail::BulkAllocator<std::uint64_t>> v;
+    const std::size_t n = 3 * detail::huge_page / sizeof(std::uint64_t) + 5;
+    for (std::size_t i = 0; i < n; ++i) v.push_back(i * i);
+    CHECK(v.capacity() * sizeof(std::uint64_t) >= detail::huge_page);
+#if defined(__linux__)
+    CHECK(reinterpret_cast<std::uintptr_t>(v.data()) % detail::huge_page == 0);
+#endif
+    bool kept = true;
+    for (std::size_t i = 0; i < n; ++i) kept = kept && v[i] == i * i;
+    CHECK(kept);
+    v.resize(100);
+    v.shrink_to_fit();  // back below a huge page: operator new again
+    CHECK(v.capacity() * sizeof(std::uint64_t) < detail::huge_page);
+    CHECK(v[99] == 99u * 99u);
+    CHECK(detail::in_huge_pages(1) == detail::huge_page);
+    CHECK(detail::in_huge_pages(detail::huge_page + 1) == 2 * detail::huge_page);
 }

@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <span>
 #include <type_traits>
 #include <vector>
@@ -75,18 +76,19 @@ class SerialCommunicator final : public Communicator {
 namespace detail {
 
 /// The bytes of a vector of trivially copyable values.
-template <class T>
-std::span<const std::byte> as_bytes_of(const std::vector<T>& v) {
+template <class T, class A>
+std::span<const std::byte> as_bytes_of(const std::vector<T, A>& v) {
     static_assert(std::is_trivially_copyable_v<T>);
     return std::as_bytes(std::span<const T>(v));
 }
 
-/// Values of type T read back from bytes (a whole number of them).
-template <class T>
-std::vector<T> values_of(std::span<const std::byte> bytes) {
+/// Values of type T read back from bytes (a whole number of them), into a vector with
+/// allocator A.
+template <class T, class A = std::allocator<T>>
+std::vector<T, A> values_of(std::span<const std::byte> bytes) {
     static_assert(std::is_trivially_copyable_v<T>);
     RADIOSITY_ASSERT(bytes.size() % sizeof(T) == 0);
-    std::vector<T> v(bytes.size() / sizeof(T));
+    std::vector<T, A> v(bytes.size() / sizeof(T));
     if (!v.empty()) std::memcpy(v.data(), bytes.data(), bytes.size());
     return v;
 }
@@ -94,26 +96,26 @@ std::vector<T> values_of(std::span<const std::byte> bytes) {
 }  // namespace detail
 
 /// Allgatherv of typed values: every rank's `mine`, in rank order.
-template <class T>
-std::vector<T> all_gather(Communicator& c, const std::vector<T>& mine) {
+template <class T, class A>
+std::vector<T, A> all_gather(Communicator& c, const std::vector<T, A>& mine) {
     std::vector<std::byte> all;
     std::vector<std::size_t> counts;
     c.allgather_bytes(detail::as_bytes_of(mine), all, counts);
-    return detail::values_of<T>(all);
+    return detail::values_of<T, A>(all);
 }
 
 /// Alltoallv of typed values: send[r] to rank r; what came to this rank, in rank order; `from`,
 /// if given, receives how many values came from each rank.
-template <class T>
-std::vector<T> all_to_all(Communicator& c, const std::vector<std::vector<T>>& send,
-                          std::vector<std::size_t>* from = nullptr) {
+template <class T, class A>
+std::vector<T, A> all_to_all(Communicator& c, const std::vector<std::vector<T, A>>& send,
+                             std::vector<std::size_t>* from = nullptr) {
     std::vector<std::vector<std::byte>> bytes(send.size());
     for (std::size_t r = 0; r < send.size(); ++r) {
         const auto b = detail::as_bytes_of(send[r]);
         bytes[r].assign(b.begin(), b.end());
     }
     std::vector<std::size_t> counts;
-    std::vector<T> out = detail::values_of<T>(c.alltoall_bytes(bytes, counts));
+    std::vector<T, A> out = detail::values_of<T, A>(c.alltoall_bytes(bytes, counts));
     if (from) {
         from->resize(counts.size());
         for (std::size_t r = 0; r < counts.size(); ++r) (*from)[r] = counts[r] / sizeof(T);
@@ -122,9 +124,9 @@ std::vector<T> all_to_all(Communicator& c, const std::vector<std::vector<T>>& se
 }
 
 /// Gatherv of typed values to rank 0, in rank order (empty on the other ranks).
-template <class T>
-std::vector<T> gather_to_first(Communicator& c, const std::vector<T>& mine) {
-    return detail::values_of<T>(c.gather_bytes(detail::as_bytes_of(mine)));
+template <class T, class A>
+std::vector<T, A> gather_to_first(Communicator& c, const std::vector<T, A>& mine) {
+    return detail::values_of<T, A>(c.gather_bytes(detail::as_bytes_of(mine)));
 }
 
 }  // namespace radiosity

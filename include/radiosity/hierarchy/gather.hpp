@@ -45,7 +45,7 @@ struct LinkGroups {
 };
 
 /// The groups of sorted links. Cost: O(links).
-inline LinkGroups group_links(const std::vector<Link>& links) {
+inline LinkGroups group_links(const LinkVector& links) {
     LinkGroups g;
     for (std::size_t i = 0; i < links.size(); ++i)
         if (i == 0 || links[i].receiver != links[i - 1].receiver) {
@@ -158,7 +158,7 @@ std::array<double, K> sent(const Link& l, const NodeValues<K>& v) {
 /// receivers' H and Hc only: the others' must be 0 (NodeValues::clear_irradiance, due when the
 /// links change; a fill per sweep would write 300 MB at a million faces). Cost: O(links).
 template <std::size_t K>
-void gather_links(const std::vector<Link>& links, const LinkGroups& g, NodeValues<K>& v) {
+void gather_links(const LinkVector& links, const LinkGroups& g, NodeValues<K>& v) {
     const auto groups = static_cast<std::int64_t>(g.receivers.size());
 #if defined(RADIOSITY_WITH_OPENMP)
 #pragma omp parallel for schedule(dynamic, 64) if (links.size() > 20000)
@@ -345,7 +345,7 @@ double push_pull(const Hierarchy& h, NodeValues<K>& v, std::vector<double>& tota
 
 /// The sum of T V over each group's links (a row of the operator the links define), in the
 /// groups' order.
-inline std::vector<double> link_rows(const std::vector<Link>& links, const LinkGroups& g) {
+inline std::vector<double> link_rows(const LinkVector& links, const LinkGroups& g) {
     std::vector<double> row(g.receivers.size(), 0.0);
     for (std::size_t gi = 0; gi < row.size(); ++gi)
         for (std::size_t i = g.begin[gi]; i < g.begin[gi + 1]; ++i)

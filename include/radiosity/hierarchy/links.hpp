@@ -7,6 +7,7 @@
 /// gathers B_source * coefficient * visibility as irradiance.
 
 #include <radiosity/concepts.hpp>
+#include <radiosity/detail/bulk_memory.hpp>
 #include <radiosity/form_factor/analytic.hpp>
 #include <radiosity/geometry/sampling.hpp>
 #include <radiosity/hierarchy/nodes.hpp>
@@ -45,6 +46,10 @@ struct Link {
     std::array<std::uint8_t, facing_classes> sending{};
 };
 static_assert(sizeof(Link) == 28);
+
+/// A list of links: a rank's settled links, a refinement round's tasks and frontier. Large, and
+/// filled afresh in every round, so in huge pages where the kernel offers them (bulk_memory.hpp).
+using LinkVector = std::vector<Link, detail::BulkAllocator<Link>>;
 
 /// Whether a link's split among orientation classes was measured (is not all 0). (Not by
 /// operator==, which calls memcmp: 5% of room3's solve.)
@@ -87,7 +92,7 @@ inline bool link_order(const Link& a, const Link& b) {
 /// Sorts links by link_order. The same order by one 64-bit key per link (receiver in the high
 /// half), compared inline: std::sort through a function pointer called link_order itself for
 /// each comparison (room3: 3% of the solve).
-inline void sort_links(std::vector<Link>& links) {
+inline void sort_links(LinkVector& links) {
     const auto key = [](const Link& l) { return std::uint64_t(l.receiver) << 32 | l.source; };
     std::sort(links.begin(), links.end(),
               [&key](const Link& a, const Link& b) { return key(a) < key(b); });

@@ -245,11 +245,11 @@ using NodesAdded = std::function<void(std::size_t from)>;
 /// Where a refinement pass stands between two rounds: this rank's settled links and the links
 /// still to be judged; what a checkpoint taken inside a pass holds.
 struct RefineRound {
-    std::vector<Link> done;      ///< kept links
-    std::vector<Link> frontier;  ///< evaluated links to be judged next round
-    std::uint64_t splits = 0;    ///< links split in this pass so far (all ranks)
-    std::uint64_t settled = 0;   ///< links settled so far (all ranks), for progress
-    std::uint64_t open = 1;      ///< links in every rank's frontier (0: the pass is done)
+    LinkVector done;            ///< kept links
+    LinkVector frontier;        ///< evaluated links to be judged next round
+    std::uint64_t splits = 0;   ///< links split in this pass so far (all ranks)
+    std::uint64_t settled = 0;  ///< links settled so far (all ranks), for progress
+    std::uint64_t open = 1;     ///< links in every rank's frontier (0: the pass is done)
 };
 
 /// What a distributed refinement needs: the ranks, who owns which receiver, the per-position
@@ -296,8 +296,8 @@ Link evaluate_task(const Hierarchy& h, const V& scene, const Link& task, const R
 /// Carries out tasks (evaluate_task) with this rank's threads into `links` (resized to the
 /// tasks'): the plain loop.
 template <Visibility V>
-void evaluate_tasks(const Hierarchy& h, const V& scene, const std::vector<Link>& tasks,
-                    const RefineSettings& s, std::vector<Link>& links) {
+void evaluate_tasks(const Hierarchy& h, const V& scene, const LinkVector& tasks,
+                    const RefineSettings& s, LinkVector& links) {
     links.resize(tasks.size());
     const auto n = static_cast<std::int64_t>(tasks.size());
 #if defined(RADIOSITY_WITH_OPENMP)
@@ -316,8 +316,8 @@ void evaluate_tasks(const Hierarchy& h, const V& scene, const std::vector<Link>&
 /// function of its pair alone (its rays are seeded from the pair), so it has the same bits
 /// whichever rank evaluates it. The links come back in `links`, in the order of `tasks`.
 template <Visibility V>
-void evaluate_shared(const Hierarchy& h, const V& scene, const std::vector<Link>& tasks,
-                     const RefineSettings& s, RefineShare& share, std::vector<Link>& links) {
+void evaluate_shared(const Hierarchy& h, const V& scene, const LinkVector& tasks,
+                     const RefineSettings& s, RefineShare& share, LinkVector& links) {
     Communicator& comm = share.comm;
     if (comm.size() == 1) {
         const auto t0 = std::chrono::steady_clock::now();
@@ -336,18 +336,18 @@ void evaluate_shared(const Hierarchy& h, const V& scene, const std::vector<Link>
     }
     // A task goes to the rank whose share holds its first ray: rank floor(at P / total).
     const auto ranks = std::uint64_t(comm.size());
-    std::vector<std::vector<Link>> send(ranks);
+    std::vector<LinkVector> send(ranks);
     for (const Link& t : tasks) {
         send[std::min(ranks - 1, at * ranks / std::max<std::uint64_t>(total, 1))].push_back(t);
         at += evaluation_cost(h, t, s);
     }
     std::vector<std::size_t> from;
-    const std::vector<Link> came = all_to_all(comm, send, &from);
+    const LinkVector came = all_to_all(comm, send, &from);
     const auto t0 = std::chrono::steady_clock::now();
     evaluate_tasks(h, scene, came, s, links);
     share.compute_seconds += seconds_since(t0);
     // Back to the ranks that sent them, each in the order it sent them.
-    std::vector<std::vector<Link>> back(ranks);
+    std::vector<LinkVector> back(ranks);
     for (std::size_t q = 0, k = 0; q < ranks; k += from[q], ++q)
         back[q].assign(links.begin() + std::ptrdiff_t(k),
                        links.begin() + std::ptrdiff_t(k + from[q]));
@@ -384,7 +384,7 @@ struct RoundBlock {
 
 /// Appends the `part` of every block to `out`, in block order.
 inline void join_blocks(std::vector<RoundBlock>& blocks, std::size_t count,
-                        std::vector<Link> RoundBlock::*part, std::vector<Link>& out) {
+                        std::vector<Link> RoundBlock::*part, LinkVector& out) {
     std::size_t size = out.size();
     for (std::size_t k = 0; k < count; ++k) size += (blocks[k].*part).size();
     if (size > out.capacity()) out.reserve(std::max(size, 2 * out.capacity()));  // amortised
@@ -399,17 +399,16 @@ struct RoundBuffers {
     std::vector<char> crosses;       ///< per frontier link: its split makes other ranks' receivers
     std::vector<NodeId> to_split;    ///< elements to split this round
     std::vector<RoundBlock> blocks;  ///< per block of round_block links
-    std::vector<Link> tasks;         ///< kept links to sample, then pairs to open
-    std::vector<Link> evaluated;     ///< the tasks carried out
+    LinkVector tasks;                ///< kept links to sample, then pairs to open
+    LinkVector evaluated;            ///< the tasks carried out
 };
 
 /// Carries out this rank's verdicts on the frontier (those whose splits stay on this rank;
 /// apply_verdict), in parallel blocks: b.tasks gets the kept links still unsampled, then the
 /// new pairs to open, in frontier order; `done` the kept links already sampled. Returns the
 /// links split; throws if the links would pass max_links.
-inline std::uint64_t carry_out_verdicts(const Hierarchy& h, const std::vector<Link>& frontier,
-                                        RoundBuffers& b, std::vector<Link>& done,
-                                        std::size_t max_links) {
+inline std::uint64_t carry_out_verdicts(const Hierarchy& h, const LinkVector& frontier,
+                                        RoundBuffers& b, LinkVector& done, std::size_t max_links) {
     const std::size_t blocks = (frontier.size() + round_block - 1) / round_block;
     if (b.blocks.size() < blocks) b.blocks.resize(blocks);
     const auto anything = [](NodeId) { return true; };
@@ -453,8 +452,8 @@ inline std::uint64_t carry_out_verdicts(const Hierarchy& h, const std::vector<Li
 /// (judge refines those further); the rest are settled in `done`; pairs that exchange nothing
 /// are dropped.
 inline void settle_evaluated(const Hierarchy& h, const RefineSettings& s, RoundBuffers& b,
-                             std::vector<Link>& frontier, std::vector<Link>& done) {
-    const std::vector<Link>& evaluated = b.evaluated;
+                             LinkVector& frontier, LinkVector& done) {
+    const LinkVector& evaluated = b.evaluated;
     const std::size_t blocks = (evaluated.size() + round_block - 1) / round_block;
     if (b.blocks.size() < blocks) b.blocks.resize(blocks);
     for_each_block(evaluated.size(), [&](std::size_t k, std::size_t begin, std::size_t end) {
@@ -488,7 +487,7 @@ void refine_round(Hierarchy& h, const V& scene, RefineRound& round, const Refine
                   RoundBuffers& b) {
     const int me = share.comm.rank();
     const auto owner = [&](NodeId n) { return share.partition.owner(h, n); };
-    std::vector<Link>& frontier = round.frontier;
+    LinkVector& frontier = round.frontier;
     std::vector<Verdict>& verdict = b.verdict;
     verdict.assign(frontier.size(), Verdict::keep);
     const auto t0 = std::chrono::steady_clock::now();

@@ -177,9 +177,9 @@ class HierarchySolve {
         return report;
     }
 
-    const Hierarchy& hierarchy() const { return h_; }          ///< the nodes
-    const std::vector<Link>& links() const { return links_; }  ///< this rank's, by receiver
-    const NodeValues<K>& values() const { return v_; }         ///< E, rho, B, H per node
+    const Hierarchy& hierarchy() const { return h_; }   ///< the nodes
+    const LinkVector& links() const { return links_; }  ///< this rank's, by receiver
+    const NodeValues<K>& values() const { return v_; }  ///< E, rho, B, H per node
     /// Bytes of nodes, values and this rank's links.
     std::size_t bytes() const {
         // Per node E, rho, B, H, push-pull's total and rho_max, B_max, exposure; per mixed
@@ -278,7 +278,7 @@ class HierarchySolve {
             std::vector<double> c(cost_.size());
             for (std::size_t i = 0; i < c.size(); ++i) c[i] = 1.0 + double(cost_[i]);
             partition_ = Partition(c.size(), comm_->size(), c);
-            std::vector<std::vector<Link>> send(std::size_t(comm_->size()));
+            std::vector<LinkVector> send(std::size_t(comm_->size()));
             for (const Link& l : links_)
                 send[std::size_t(partition_.owner(h_, l.receiver))].push_back(l);
             links_ = all_to_all(*comm_, send);
@@ -454,9 +454,9 @@ class HierarchySolve {
             state_.settled = round_.settled;
             state_.open = round_.open;
         }
-        const std::vector<Link> done = gather_to_first(*comm_, refining ? round_.done : links_);
-        const std::vector<Link> frontier =
-            gather_to_first(*comm_, refining ? round_.frontier : std::vector<Link>{});
+        const LinkVector done = gather_to_first(*comm_, refining ? round_.done : links_);
+        const LinkVector frontier =
+            gather_to_first(*comm_, refining ? round_.frontier : LinkVector{});
         if (comm_->rank() == 0) {
             CheckpointWriter w;
             w.add_value(tag_state, state_);
@@ -499,7 +499,7 @@ class HierarchySolve {
     Partition partition_;
     std::vector<std::uint64_t> cost_;  // per position of the cluster order, this pass
     NodeValues<K> v_;
-    std::vector<Link> links_;
+    LinkVector links_;
     RefineRound round_;
     SolveState state_;
     std::vector<NodeId> split_log_;
@@ -523,15 +523,17 @@ bool HierarchySolve<K>::resume(const std::string& file) {
     std::vector<SolveState> state;
     std::vector<NodeId> splits;
     std::vector<double> B, B_max;
-    std::vector<Link> done, frontier;
+    LinkVector done, frontier;
     if (comm_->rank() == 0) try {
             const CheckpointReader r(file, hash_);
             state = {r.value<SolveState>(tag_state)};
             splits = r.get<NodeId>(tag_splits);
             B = r.get<double>(tag_B);
             B_max = r.get<double>(tag_B_max);
-            done = r.get<Link>(tag_done);
-            frontier = r.get<Link>(tag_frontier);
+            for (auto [links, tag] : {std::pair{&done, tag_done}, {&frontier, tag_frontier}}) {
+                const std::vector<Link> read = r.get<Link>(tag);
+                links->assign(read.begin(), read.end());
+            }
             // What only rank 0 can check (the others see the data after it): sizes and ids
             // against the node count that replaying the splits will give.
             const std::size_t nodes = h_.size() + 4 * splits.size();
@@ -563,8 +565,8 @@ bool HierarchySolve<K>::resume(const std::string& file) {
     v_.B_max = std::move(B_max);
     state_ = state.at(0);
     // Each link to the rank that owns its receiver.
-    const auto deal = [&](const std::vector<Link>& links) {
-        std::vector<std::vector<Link>> send(std::size_t(comm_->size()));
+    const auto deal = [&](const LinkVector& links) {
+        std::vector<LinkVector> send(std::size_t(comm_->size()));
         for (const Link& l : links)
             send[std::size_t(partition_.owner(h_, l.receiver))].push_back(l);
         return all_to_all(*comm_, send);
