@@ -30,6 +30,15 @@ inline int thread_index() {
 #endif
 }
 
+/// How many threads a parallel region would have: 1 without OpenMP. Cost: a call.
+inline int thread_count() {
+#if defined(RADIOSITY_WITH_OPENMP)
+    return omp_get_max_threads();
+#else
+    return 1;
+#endif
+}
+
 /// Whether a pass over an n x n system of K bands is worth sharing among threads: from 2^24
 /// products on (a few milliseconds), below which starting and waking threads, on a machine
 /// with other work, can cost more than the pass. Results do not depend on it: the work is cut

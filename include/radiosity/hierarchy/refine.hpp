@@ -502,10 +502,11 @@ void refine_round(Hierarchy& h, const V& scene, RefineRound& round, const Refine
     to_split.clear();
     std::vector<SharedSplit> shared;
     b.crosses.assign(frontier.size(), 0);
+    const bool ranks = share.comm.size() > 1;  // (one rank owns every receiver)
     for (std::size_t i = 0; i < frontier.size(); ++i) {
         if (const NodeId n = node_to_split(h, frontier[i], verdict[i]); n != no_node)
             to_split.push_back(n);
-        b.crosses[i] = crosses_ranks(h, frontier[i], verdict[i], owner);
+        b.crosses[i] = ranks && crosses_ranks(h, frontier[i], verdict[i], owner);
         if (b.crosses[i]) shared.push_back({frontier[i], std::uint32_t(verdict[i])});
     }
     to_split = all_gather(share.comm, to_split);
