@@ -101,6 +101,8 @@ HierarchicalResult<S> solve_hierarchical(const Mesh<S>& patches, const Hierarchi
         throw Error("hierarchical radiosity: exposure samples must not be negative");
     if (!(o.shadow_factor > 0.0) || !std::isfinite(o.shadow_factor))
         throw Error("hierarchical radiosity: the shadow factor must be a positive number");
+    if (!(o.coarse_factor >= 1.0) || !std::isfinite(o.coarse_factor))
+        throw Error("hierarchical radiosity: the coarse passes' factor must be at least 1");
     detail::HierarchySolve<K> solve(detail::hierarchy_of(patches), o);
     solve.set_materials([&](std::uint32_t face, double* E, double* rho) {
         const auto& d = patches.data(patches.face_handle(static_cast<int>(face)));

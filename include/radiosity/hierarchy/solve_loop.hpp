@@ -147,8 +147,9 @@ class HierarchySolve {
         const auto passes = std::uint32_t(o_.coarse_passes + o_.max_final_passes);
         for (; state_.pass < passes; ++state_.pass, state_.iterating = 0) {
             const bool final = state_.pass >= std::uint32_t(o_.coarse_passes);
-            s.threshold = o_.link_error * emitted_ *
-                          std::pow(4.0, final ? 0 : o_.coarse_passes - int(state_.pass));
+            s.threshold =
+                o_.link_error * emitted_ *
+                std::pow(o_.coarse_factor, final ? 0 : o_.coarse_passes - int(state_.pass));
             if (!state_.iterating) {
                 const auto t0 = std::chrono::steady_clock::now();
                 const double waited = comm_->collective_seconds();
@@ -204,7 +205,8 @@ class HierarchySolve {
                     f.add_value(v_.E[n * K + k]);
                     f.add_value(v_.rho[n * K + k]);
                 }
-        for (const double x : {o_.link_error, o_.min_area, tolerance, o_.shadow_factor})
+        for (const double x :
+             {o_.link_error, o_.min_area, tolerance, o_.shadow_factor, o_.coarse_factor})
             f.add_value(x);
         for (const int x : {o_.rays, o_.cluster_samples, o_.max_depth, o_.coarse_passes,
                             o_.max_final_passes, o_.exposure_samples})
