@@ -20,7 +20,7 @@ namespace radiosity::detail {
 /// The size of a transparent huge page on x86-64 and most AArch64 kernels.
 inline constexpr std::size_t huge_page = std::size_t{2} << 20;
 
-/// bytes rounded up to whole huge pages.
+/// bytes (or an address) rounded up to whole huge pages.
 inline constexpr std::size_t in_huge_pages(std::size_t bytes) {
     return (bytes + huge_page - 1) / huge_page * huge_page;
 }
@@ -34,7 +34,7 @@ inline void* map_huge(std::size_t bytes) {
     void* p = mmap(nullptr, span, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
     if (p == MAP_FAILED) throw std::bad_alloc();
     const auto at = reinterpret_cast<std::uintptr_t>(p);
-    const std::uintptr_t aligned = (at + huge_page - 1) / huge_page * huge_page;
+    const std::uintptr_t aligned = in_huge_pages(at);
     if (aligned > at) munmap(p, aligned - at);
     if (const std::uintptr_t tail = at + span - (aligned + bytes); tail > 0)
         munmap(reinterpret_cast<void*>(aligned + bytes), tail);

@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <memory>
 #include <span>
 #include <string>
 #include <type_traits>
@@ -146,15 +147,16 @@ class CheckpointReader {
         }
     }
 
-    /// The values of a section; Error if it is missing or not a whole number of T.
-    template <class T>
-    std::vector<T> get(std::uint32_t tag) const {
+    /// The values of a section, in a vector with allocator A; Error if it is missing or not a
+    /// whole number of T.
+    template <class T, class A = std::allocator<T>>
+    std::vector<T, A> get(std::uint32_t tag) const {
         static_assert(std::is_trivially_copyable_v<T>);
         const auto it = sections_.find(tag);
         if (it == sections_.end() || it->second.size() % sizeof(T) != 0)
             throw Error("checkpoint " + path_ + ": section " + std::to_string(tag) +
                         " is missing or malformed");
-        std::vector<T> v(it->second.size() / sizeof(T));
+        std::vector<T, A> v(it->second.size() / sizeof(T));
         if (!v.empty()) std::memcpy(v.data(), it->second.data(), it->second.size());
         return v;
     }

@@ -532,10 +532,8 @@ bool HierarchySolve<K>::resume(const std::string& file) {
             splits = r.get<NodeId>(tag_splits);
             B = r.get<double>(tag_B);
             B_max = r.get<double>(tag_B_max);
-            for (auto [links, tag] : {std::pair{&done, tag_done}, {&frontier, tag_frontier}}) {
-                const std::vector<Link> read = r.get<Link>(tag);
-                links->assign(read.begin(), read.end());
-            }
+            done = r.get<Link, LinkVector::allocator_type>(tag_done);
+            frontier = r.get<Link, LinkVector::allocator_type>(tag_frontier);
             // What only rank 0 can check (the others see the data after it): sizes and ids
             // against the node count that replaying the splits will give.
             const std::size_t nodes = h_.size() + 4 * splits.size();
