@@ -415,6 +415,69 @@ TEST_CASE(
     }
 }
 
+TEST_CASE("a link's class shares sampled again are those its refinement sampled") {
+    // The shares do not travel with the links (16 bytes): the sweeps take them from what the
+    // refinement sampled, or sample the pair again, which must give the same shares, since a
+    // link's samples are a function of its pair and the seed alone. The box under the square,
+    // both emitting and reflecting, solved by clusters alone: its clusters hold faces of
+    // several orientation classes, and links go into and out of them.
+    const Material<Rgb> lit{Rgb(1.0f), Rgb(0.5f), "lit"}, grey{Rgb(0.0f), Rgb(0.5f), "grey"};
+    const Mesh<Rgb> scene = build_mesh(box_under_square(6, lit, grey, lit));
+    const HierarchicalOptions o{.link_error = 1e-5, .min_area = 1.0};
+    detail::HierarchySolve<3> solve(detail::hierarchy_of(scene), o);
+    solve.set_materials([&](std::uint32_t face, double* E, double* rho) {
+        const auto& d = scene.data(scene.face_handle(static_cast<int>(face)));
+        for (std::size_t k = 0; k < 3; ++k) {
+            E[k] = band(d.emission, k);
+            rho[k] = band(d.reflectance, k);
+        }
+    });
+    HierarchyReport report;
+    const Bvh bvh(solve.hierarchy().roots);
+    solve.run(bvh, 1e-4, 0, {}, report);
+    const Hierarchy& h = solve.hierarchy();
+    const LinkVector& links = solve.links();
+    const RefineSettings settings{.cluster_samples = o.cluster_samples, .seed = o.seed};
+    // Sampled as the refinement samples a kept link, each link's shares to a list.
+    std::vector<ClassShares> refined;
+    for (const Link& l : links) {
+        if (!has_class_shares(h, l)) continue;
+        const Link again =
+            sample_link(h, bvh, Link{l.receiver, l.source, 0.0f, unsampled}, settings, &refined);
+        CHECK(again.coefficient == l.coefficient);  // the very samples of the solve's link
+        CHECK(again.visibility == l.visibility);
+    }
+    // Sampled again by class_shares, knowing nothing; and taken from the refinement's list.
+    const std::vector<ClassShares> fresh =
+        class_shares(h, bvh, links, o.cluster_samples, o.seed, {});
+    const std::vector<ClassShares> taken =
+        class_shares(h, bvh, links, o.cluster_samples, o.seed, refined);
+    REQUIRE(fresh.size() == refined.size());
+    REQUIRE(taken.size() == refined.size());
+    std::size_t facing = 0, sending = 0;
+    for (std::size_t i = 0; i < fresh.size(); ++i) {
+        const ClassShares &a = fresh[i], &b = refined[i], &c = taken[i];
+        CHECK((a.receiver == b.receiver && a.source == b.source));
+        CHECK(a.facing == b.facing);
+        CHECK(a.sending == b.sending);
+        CHECK((c.facing == b.facing && c.sending == b.sending));
+        // Measured at a mixed end only, and then whole: 255 255ths.
+        const auto sum = [](const std::array<std::uint8_t, facing_classes>& x) {
+            int t = 0;
+            for (const std::uint8_t v : x) t += v;
+            return t;
+        };
+        CHECK(sum(a.facing) == (h.mixed(a.receiver) ? 255 : 0));
+        CHECK(sum(a.sending) == (h.mixed(a.source) ? 255 : 0));
+        facing += sum(a.facing) > 0;
+        sending += sum(a.sending) > 0;
+    }
+    MESSAGE(links.size() << " links; " << fresh.size() << " with class shares, " << facing
+                         << " into a mixed cluster, " << sending << " out of one");
+    CHECK(facing > 20);
+    CHECK(sending > 20);
+}
+
 TEST_CASE("link coefficients are reciprocal: A_r T_rs = A_s T_sr") {
     const Mesh<Rgb> box = subdivide(build_mesh(cornell_box<Rgb>(true)), SubdivisionOptions{});
     detail::HierarchySolve<3> solve(detail::hierarchy_of(box), HierarchicalOptions{});

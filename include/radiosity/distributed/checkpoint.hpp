@@ -89,7 +89,7 @@ class CheckpointWriter {
     }
 
     /// "RADCKPT" and the format's version.
-    static constexpr std::array<char, 8> magic{'R', 'A', 'D', 'C', 'K', 'P', 'T', 2};
+    static constexpr std::array<char, 8> magic{'R', 'A', 'D', 'C', 'K', 'P', 'T', 3};
 
   private:
     void put(const void* p, std::size_t n) {

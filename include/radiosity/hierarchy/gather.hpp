@@ -16,12 +16,13 @@
 /// a wall's hidden strip under a pillar from taking light and dimming the wall around it.
 ///
 /// A cluster's faces need not face alike (a box's top and sides, a room's corner), and the
-/// light a link brings falls on those that face its source. So a link into a cluster carries
-/// the shares of its light that the cluster's orientation classes took (nodes.hpp: +x, -x, +y,
-/// -y, +z, -z, by its samples), and push-pull hands each class's light down to the children in
-/// proportion to their exposed area in that class, S_c = sum of A e over their faces of the
-/// class (`facing_area`): a box's top, lit from above, takes the light its sides do not, and each
-/// class's light still reaches exactly the exposed faces of that class, so energy is kept.
+/// light a link brings falls on those that face its source. So a link into a cluster has the
+/// shares of its light that the cluster's orientation classes took (ClassShares; nodes.hpp:
+/// +x, -x, +y, -y, +z, -z, by its samples), and push-pull hands each class's light down to the
+/// children in proportion to their exposed area in that class, S_c = sum of A e over their
+/// faces of the class (`facing_area`): a box's top, lit from above, takes the light its sides
+/// do not, and each class's light still reaches exactly the exposed faces of that class, so
+/// energy is kept.
 /// Flat clusters, and what a link does not split by class, go down by exposed area alone, as
 /// in Sillion's isotropic cluster; at a root element the light becomes its scalar irradiance.
 
@@ -134,19 +135,42 @@ struct NodeValues {
     }
 };
 
-/// The radiosity that link l sends: its source's B, or, from a cluster, the mean over the
+/// The class shares of a rank's links for its sweeps: `entries` (class_shares, in the links'
+/// order), and for each group of LinkGroups where its entries begin (`begin`, one more than the
+/// groups), so that a gather finds a link's shares by walking its receiver's entries along with
+/// its links.
+struct GroupShares {
+    std::vector<ClassShares> entries;
+    std::vector<std::size_t> begin{0};
+};
+
+/// Where each group's entries begin (entries: a subsequence of the sorted links, by
+/// link_order). Cost: O(groups + entries).
+inline GroupShares group_shares(const LinkGroups& g, std::vector<ClassShares> entries) {
+    GroupShares out;
+    out.begin.assign(g.receivers.size() + 1, entries.size());
+    std::size_t e = 0;
+    for (std::size_t gi = 0; gi < g.receivers.size(); ++gi) {
+        while (e < entries.size() && entries[e].receiver < g.receivers[gi]) ++e;
+        out.begin[gi] = e;
+    }
+    out.entries = std::move(entries);
+    return out;
+}
+
+/// The radiosity that link l sends: its source's B, or, from a mixed cluster, the mean over the
 /// orientation classes of the cluster's per-class radiosity Bc, weighted by the shares of the
-/// link's light that each class sent (Link::sending).
+/// link's light that each class sent (ClassShares::sending; x null: the link has none).
 template <std::size_t K>
-std::array<double, K> sent(const Link& l, const NodeValues<K>& v) {
+std::array<double, K> sent(const Link& l, const ClassShares* x, const NodeValues<K>& v) {
     std::array<double, K> b{};
-    if (!measured(l.sending)) {
+    if (x == nullptr || !measured(x->sending)) {
         for (std::size_t k = 0; k < K; ++k) b[k] = v.B[l.source * K + k];
         return b;
     }
     const double* Bc = &v.Bc[std::size_t(v.mixed[l.source]) * facing_classes * K];
     for (std::size_t d = 0; d < facing_classes; ++d) {  // no branch on 0: they mispredict
-        const double w = double(l.sending[d]) * (1.0 / 255.0);
+        const double w = double(x->sending[d]) * (1.0 / 255.0);
         for (std::size_t k = 0; k < K; ++k) b[k] += w * Bc[d * K + k];
     }
     return b;
@@ -154,11 +178,13 @@ std::array<double, K> sent(const Link& l, const NodeValues<K>& v) {
 
 /// Gather: H_r = sum over r's links of T_rs V_rs B_s, receivers in parallel, each summing its
 /// links in their sorted order (the same sums for any thread count); a mixed cluster receiver
-/// also sums each link's light by the classes that took it (Link::facing) into Hc. Writes the
+/// also sums each link's light by the classes that took it (ClassShares::facing) into Hc. A
+/// link's shares are the next of its group's entries if that names its source. Writes the
 /// receivers' H and Hc only: the others' must be 0 (NodeValues::clear_irradiance, due when the
 /// links change; a fill per sweep would write 300 MB at a million faces). Cost: O(links).
 template <std::size_t K>
-void gather_links(const LinkVector& links, const LinkGroups& g, NodeValues<K>& v) {
+void gather_links(const LinkVector& links, const LinkGroups& g, const GroupShares& shares,
+                  NodeValues<K>& v) {
     const auto groups = static_cast<std::int64_t>(g.receivers.size());
 #if defined(RADIOSITY_WITH_OPENMP)
 #pragma omp parallel for schedule(dynamic, 64) if (links.size() > 20000)
@@ -168,14 +194,18 @@ void gather_links(const LinkVector& links, const LinkGroups& g, NodeValues<K>& v
         const bool cluster = v.is_mixed(r);
         std::array<double, K> acc{};
         std::array<double, facing_classes * K> by_class{};
+        std::size_t e = shares.begin[std::size_t(gi)];
+        const std::size_t e_end = shares.begin[std::size_t(gi) + 1];
         for (std::size_t i = g.begin[std::size_t(gi)]; i < g.begin[std::size_t(gi) + 1]; ++i) {
             const Link& l = links[i];
+            const ClassShares* x = nullptr;
+            if (e < e_end && shares.entries[e].source == l.source) x = &shares.entries[e++];
             const double t = double(l.coefficient) * double(l.visibility);
-            const std::array<double, K> b = sent(l, v);
+            const std::array<double, K> b = sent(l, x, v);
             for (std::size_t k = 0; k < K; ++k) acc[k] += t * b[k];
-            if (!cluster || !measured(l.facing)) continue;
+            if (!cluster || x == nullptr || !measured(x->facing)) continue;
             for (std::size_t d = 0; d < facing_classes; ++d) {
-                const double td = t * (double(l.facing[d]) * (1.0 / 255.0));
+                const double td = t * (double(x->facing[d]) * (1.0 / 255.0));
                 for (std::size_t k = 0; k < K; ++k) by_class[d * K + k] += td * b[k];
             }
         }

@@ -23,30 +23,21 @@
 
 namespace radiosity {
 
-/// A link: receiver r gathers H_r += coefficient * visibility * B_s from source s. 28 bytes.
+/// A link: receiver r gathers H_r += coefficient * visibility * B_s from source s. 16 bytes.
 /// The coefficient is the unoccluded transfer (the form factor F_rs for two elements) and the
 /// visibility the fraction of rays between them that nothing blocks, kept apart so that the
-/// refinement oracle can judge a shadowed link by what it would carry unshadowed. A link with
-/// a cluster at either end also carries how its light divides among the orientation classes
-/// of the cluster's faces: at the receiver, the faces that take it (`facing`: push-pull hands
-/// it to those that face the source), at the source, those that send it (`sending`: the
-/// gather takes the radiosity of the faces that face the receiver, not the whole cluster's
-/// mean). See gather.hpp.
+/// refinement oracle can judge a shadowed link by what it would carry unshadowed. A link with a
+/// mixed cluster at either end also divides its light among the orientation classes of the
+/// cluster's faces (ClassShares); that is not kept here but measured again for the sweeps
+/// (class_shares), from the same samples, so that the millions of links a refinement round
+/// makes and moves stay small.
 struct Link {
     NodeId receiver;    ///< r
     NodeId source;      ///< s
     float coefficient;  ///< T_rs, unoccluded
     float visibility;   ///< V_rs in [0, 1]
-    /// Into a cluster: the share of the link's irradiance that the faces of each orientation
-    /// class take, in 255ths (summing to 255); all 0 where unmeasured (an element receiver, a
-    /// link that brings nothing), which push-pull hands to every exposed face alike.
-    std::array<std::uint8_t, facing_classes> facing{};
-    /// From a cluster: the share of the link's irradiance that its faces of each orientation
-    /// class send, in 255ths (summing to 255); all 0 where unmeasured (an element source, a
-    /// link that brings nothing), where the gather takes the cluster's mean radiosity.
-    std::array<std::uint8_t, facing_classes> sending{};
 };
-static_assert(sizeof(Link) == 28);
+static_assert(sizeof(Link) == 16);
 
 /// A list of links: a rank's settled links, a refinement round's tasks and frontier. Large, and
 /// filled afresh in every round, so in huge pages where the kernel offers them (bulk_memory.hpp).
@@ -90,19 +81,22 @@ inline bool link_order(const Link& a, const Link& b) {
     return a.receiver < b.receiver || (a.receiver == b.receiver && a.source < b.source);
 }
 
-/// Sorts links by link_order. The same order by one 64-bit key per link (receiver in the high
-/// half), compared inline: std::sort through a function pointer called link_order itself for
-/// each comparison (room3: 3% of the solve). In one piece per thread, sorted in parallel and
-/// then merged, pairs of neighbours at a time (the keys are unique, so the order is the same for
-/// any number of pieces). Cost: O(n log n / threads + n log threads).
-inline void sort_links(LinkVector& links) {
-    const auto key = [](const Link& l) { return std::uint64_t(l.receiver) << 32 | l.source; };
-    const auto less = [&key](const Link& a, const Link& b) { return key(a) < key(b); };
-    const std::size_t n = links.size();
+/// Sorts items with a receiver and a source (links, ClassShares) by link_order. The same order
+/// by one 64-bit key per item (receiver in the high half), compared inline: std::sort through a
+/// function pointer called link_order itself for each comparison (room3: 3% of the solve). In
+/// one piece per thread, sorted in parallel and then merged, pairs of neighbours at a time (the
+/// keys must be unique, so that the order is the same for any number of pieces). Cost:
+/// O(n log n / threads + n log threads).
+template <class Items>
+void sort_by_pair(Items& items) {
+    using Item = typename Items::value_type;
+    const auto key = [](const Item& l) { return std::uint64_t(l.receiver) << 32 | l.source; };
+    const auto less = [&key](const Item& a, const Item& b) { return key(a) < key(b); };
+    const std::size_t n = items.size();
     const std::size_t pieces = n >= 65536 ? std::size_t(detail::thread_count()) : 1;
     std::vector<std::size_t> cut(pieces + 1);
     for (std::size_t p = 0; p <= pieces; ++p) cut[p] = n * p / pieces;
-    const auto at = [&](std::size_t p) { return links.begin() + std::ptrdiff_t(cut[p]); };
+    const auto at = [&](std::size_t p) { return items.begin() + std::ptrdiff_t(cut[p]); };
 #if defined(RADIOSITY_WITH_OPENMP)
 #pragma omp parallel for schedule(static, 1) if (pieces > 1)
 #endif
@@ -111,6 +105,11 @@ inline void sort_links(LinkVector& links) {
     for (std::size_t width = 1; width < pieces; width *= 2)
         for (std::size_t p = 0; p + width < pieces; p += 2 * width)
             std::inplace_merge(at(p), at(p + width), at(std::min(p + 2 * width, pieces)), less);
+}
+
+/// Sorts links by link_order (sort_by_pair: links are unique per pair).
+inline void sort_links(LinkVector& links) {
+    sort_by_pair(links);
 }
 
 /// A link's transfer coefficient and how far it can be trusted.
@@ -409,6 +408,66 @@ SampledTransfer sampled_transfer(const Hierarchy& h, const V& scene, NodeId r, N
     }
     if (sum == 0.0) return {0.0, 1.0, {}, {}};
     return {sum / samples, seen / sum, facing, sending};
+}
+
+/// How the light of a link with a mixed cluster (Hierarchy::mixed) at either end divides among
+/// the orientation classes of the cluster's faces: at the receiver, the faces that take it
+/// (`facing`: push-pull hands it to those that face the source), at the source, those that
+/// send it (`sending`: the gather takes the radiosity of the faces that face the receiver, not
+/// the whole cluster's mean). Each in 255ths, summing to 255; all 0 where unmeasured (that end
+/// is not a mixed cluster), where push-pull hands the light to every exposed face alike and the
+/// gather takes the cluster's mean radiosity. See gather.hpp.
+struct ClassShares {
+    NodeId receiver, source;  ///< the link's
+    std::array<std::uint8_t, facing_classes> facing{};
+    std::array<std::uint8_t, facing_classes> sending{};
+};
+
+/// Whether link l has class shares: it carries light (T V > 0) and a mixed cluster is at an end.
+inline bool has_class_shares(const Hierarchy& h, const Link& l) {
+    return l.coefficient > 0.0f && l.visibility > 0.0f &&
+           (h.mixed(l.receiver) || h.mixed(l.source));
+}
+
+/// The class shares of the links that have any (has_class_shares), in the links' order. Each
+/// taken from `known` (sorted by link_order, each pair once: what the refinement sampled, the
+/// last pass's) where it is there, found by walking the two lists side by side (the links
+/// sorted by link_order too; unsorted, more are sampled again); else from sampled_transfer with
+/// the settings that sampled the link (`samples`, `seed`), which gives the very samples that
+/// gave its coefficient and visibility, since a link's stream is a function of its pair alone.
+/// So the shares need not travel with the links between ranks or through a checkpoint, and a
+/// link is 16 bytes, not 28. Cost: O(links + known); `samples` rays and transfers per link
+/// not known, in parallel.
+template <Visibility V>
+std::vector<ClassShares> class_shares(const Hierarchy& h, const V& scene, const LinkVector& links,
+                                      int samples, std::uint64_t seed,
+                                      const std::vector<ClassShares>& known) {
+    std::vector<ClassShares> out;
+    std::vector<std::size_t> missing;  // positions in out still to sample
+    const auto key = [](NodeId r, NodeId s) { return std::uint64_t(r) << 32 | s; };
+    std::size_t k = 0;
+    for (const Link& l : links) {
+        if (!has_class_shares(h, l)) continue;
+        const std::uint64_t want = key(l.receiver, l.source);
+        while (k < known.size() && key(known[k].receiver, known[k].source) < want) ++k;
+        if (k < known.size() && key(known[k].receiver, known[k].source) == want) {
+            out.push_back(known[k]);
+        } else {
+            missing.push_back(out.size());
+            out.push_back({l.receiver, l.source});
+        }
+    }
+    const auto n = static_cast<std::int64_t>(missing.size());
+#if defined(RADIOSITY_WITH_OPENMP)
+#pragma omp parallel for schedule(dynamic, 64) if (n > 256)
+#endif
+    for (std::int64_t j = 0; j < n; ++j) {
+        ClassShares& x = out[missing[std::size_t(j)]];
+        const SampledTransfer st = sampled_transfer(h, scene, x.receiver, x.source, samples, seed);
+        x.facing = in_255ths(st.facing);
+        x.sending = in_255ths(st.sending);
+    }
+    return out;
 }
 
 /// The visibility V_rs of a link between two elements: the kernel-weighted fraction

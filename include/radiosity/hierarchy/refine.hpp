@@ -214,9 +214,11 @@ inline Link open_link(const Hierarchy& h, NodeId r, NodeId s) {
 /// visibility from sampled_transfer. Seeded from the pair alone. A link whose samples happen to
 /// find nothing is kept all the same (with T = 0): the next pass judges it again and may refine it,
 /// whereas a dropped link would take its pair's light out of the solve for good (with 4 samples
-/// that dimmed room3 by 2%).
+/// that dimmed room3 by 2%). A link with class shares (has_class_shares) appends them to
+/// `shares`, if given: the sweeps take them from there rather than sample them again.
 template <Visibility V>
-Link sample_link(const Hierarchy& h, const V& scene, Link l, const RefineSettings& settings) {
+Link sample_link(const Hierarchy& h, const V& scene, Link l, const RefineSettings& settings,
+                 std::vector<ClassShares>* shares = nullptr) {
     const NodeId r = l.receiver, s = l.source;
     if (r == s) {  // a self-link carries nothing itself (the oracle always splits it)
         l.visibility = 1.0f;
@@ -225,8 +227,8 @@ Link sample_link(const Hierarchy& h, const V& scene, Link l, const RefineSetting
             sampled_transfer(h, scene, r, s, settings.cluster_samples, settings.seed);
         l.coefficient = static_cast<float>(st.coefficient);
         l.visibility = static_cast<float>(st.visibility);
-        l.facing = in_255ths(st.facing);
-        l.sending = in_255ths(st.sending);
+        if (shares != nullptr && has_class_shares(h, l))
+            shares->push_back({r, s, in_255ths(st.facing), in_255ths(st.sending)});
     } else {
         // The transfer it was judged on is the estimate; a kept link carries the full one
         // (the same number but for near pairs that need the quadrature).
@@ -260,6 +262,8 @@ struct RefineShare {
     std::vector<std::uint64_t>& cost;  ///< per position of the cluster order: work measured
     std::vector<NodeId>& split_log;    ///< elements split, in the order they were split
     double compute_seconds = 0.0;      ///< time judging and evaluating (no waiting on others)
+    /// Where the class shares of the links this rank samples go (sample_link), if anywhere.
+    std::vector<ClassShares>* shares = nullptr;
     /// Most links this rank may hold in a round (settled, to be judged, and the round's new
     /// ones): past it the refinement stops with an Error instead of exhausting the memory.
     std::size_t max_links = std::size_t(-1);
@@ -285,26 +289,36 @@ inline std::uint64_t evaluation_cost(const Hierarchy& h, const Link& task,
     return std::uint64_t(cluster ? s.cluster_samples : s.rays);
 }
 
-/// Carries out one task: opens a pair (open_link) or samples a kept link (sample_link).
+/// Carries out one task: opens a pair (open_link) or samples a kept link (sample_link, its
+/// class shares to `shares`).
 template <Visibility V>
-Link evaluate_task(const Hierarchy& h, const V& scene, const Link& task, const RefineSettings& s) {
+Link evaluate_task(const Hierarchy& h, const V& scene, const Link& task, const RefineSettings& s,
+                   std::vector<ClassShares>* shares) {
     if (task.visibility == unopened) return open_link(h, task.receiver, task.source);
     RADIOSITY_ASSERT(task.visibility == unsampled);
-    return sample_link(h, scene, task, s);
+    return sample_link(h, scene, task, s, shares);
 }
 
 /// Carries out tasks (evaluate_task) with this rank's threads into `links` (resized to the
-/// tasks'): the plain loop.
+/// tasks'): the plain loop. The class shares of the sampled links go to `shares` if given,
+/// each thread's after the loop (in no fixed order: they are looked up by pair).
 template <Visibility V>
 void evaluate_tasks(const Hierarchy& h, const V& scene, const LinkVector& tasks,
-                    const RefineSettings& s, LinkVector& links) {
+                    const RefineSettings& s, LinkVector& links,
+                    std::vector<ClassShares>* shares = nullptr) {
     links.resize(tasks.size());
+    const auto threads = static_cast<std::size_t>(thread_count());
+    std::vector<std::vector<ClassShares>> per_thread(shares != nullptr ? threads : 0);
     const auto n = static_cast<std::int64_t>(tasks.size());
 #if defined(RADIOSITY_WITH_OPENMP)
 #pragma omp parallel for schedule(dynamic, 64)
 #endif
     for (std::int64_t i = 0; i < n; ++i)
-        links[std::size_t(i)] = evaluate_task(h, scene, tasks[std::size_t(i)], s);
+        links[std::size_t(i)] =
+            evaluate_task(h, scene, tasks[std::size_t(i)], s,
+                          shares ? &per_thread[std::size_t(thread_index())] : nullptr);
+    if (shares != nullptr)
+        for (const auto& part : per_thread) shares->insert(shares->end(), part.begin(), part.end());
 }
 
 /// Carries out this rank's tasks of the round (the pairs to open, the kept links to sample)
@@ -321,7 +335,7 @@ void evaluate_shared(const Hierarchy& h, const V& scene, const LinkVector& tasks
     Communicator& comm = share.comm;
     if (comm.size() == 1) {
         const auto t0 = std::chrono::steady_clock::now();
-        evaluate_tasks(h, scene, tasks, s, links);
+        evaluate_tasks(h, scene, tasks, s, links, share.shares);
         share.compute_seconds += seconds_since(t0);
         return;
     }
@@ -344,7 +358,7 @@ void evaluate_shared(const Hierarchy& h, const V& scene, const LinkVector& tasks
     std::vector<std::size_t> from;
     const LinkVector came = all_to_all(comm, send, &from);
     const auto t0 = std::chrono::steady_clock::now();
-    evaluate_tasks(h, scene, came, s, links);
+    evaluate_tasks(h, scene, came, s, links, share.shares);  // (shares of others' links too)
     share.compute_seconds += seconds_since(t0);
     // Back to the ranks that sent them, each in the order it sent them.
     std::vector<LinkVector> back(ranks);

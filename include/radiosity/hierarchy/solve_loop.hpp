@@ -167,8 +167,8 @@ class HierarchySolve {
             refresh_exposure();  // the pass's new leaves (or, resumed, the replayed ones)
             const auto t0 = std::chrono::steady_clock::now();
             if (!state_.sweeps_done)  // (a checkpoint taken after the pass's last sweep)
-                iterate(final ? tolerance : std::max(tolerance, 1e-2), max_iterations, progress,
-                        report, hr);
+                iterate(scene, final ? tolerance : std::max(tolerance, 1e-2), max_iterations,
+                        progress, report, hr);
             hr.solve_seconds += seconds_since(t0);
             if (report.cancelled) break;
             if (final && state_.splits == 0) break;
@@ -183,10 +183,13 @@ class HierarchySolve {
     const NodeValues<K>& values() const { return v_; }  ///< E, rho, B, H per node
     /// Bytes of nodes, values and this rank's links.
     std::size_t bytes() const {
-        // Per node E, rho, B, H, push-pull's total and rho_max, B_max, exposure; per mixed
+        // Per link its class shares if any (ClassShares, and those sampled in this pass so
+        // far); per node E, rho, B, H, push-pull's total and rho_max, B_max, exposure; per mixed
         // cluster Hc, Bc, S and push-pull's `down` (the classes and the rest); per top node
         // its index among the mixed.
         return h_.bytes() + links_.capacity() * sizeof(Link) +
+               (shares_.entries.capacity() + sampled_shares_.capacity()) * sizeof(ClassShares) +
+               shares_.begin.capacity() * sizeof(std::size_t) +
                h_.size() * (5 * K + 3) * sizeof(double) +
                v_.S.size() / facing_classes * ((3 * K + 1) * facing_classes + K) * sizeof(double) +
                v_.mixed.size() * sizeof(NodeId);
@@ -260,6 +263,23 @@ class HierarchySolve {
         links_.shrink_to_fit();
     }
 
+    /// The class shares known on this rank, sorted by pair (link_order), each pair once: the
+    /// last table's and those the refinement sampled since (which it then forgets).
+    std::vector<ClassShares> known_shares() {
+        std::vector<ClassShares> known = std::move(sampled_shares_);
+        sampled_shares_ = {};
+        known.insert(known.end(), shares_.entries.begin(), shares_.entries.end());
+        sort_by_pair(known);
+        // A pair is sampled once in a solve (a kept link keeps its samples, a split one is
+        // gone for good), but may come twice after a resume: alike, as its samples are its own.
+        known.erase(std::unique(known.begin(), known.end(),
+                                [](const ClassShares& a, const ClassShares& b) {
+                                    return a.receiver == b.receiver && a.source == b.source;
+                                }),
+                    known.end());
+        return known;
+    }
+
     /// The state at the start of a pass's sweeps.
     static SolveState next_sweeps(SolveState st) {
         st.iterating = 1;
@@ -303,6 +323,7 @@ class HierarchySolve {
     template <Visibility V>
     void refine(const V& scene, const RefineSettings& s, const ProgressCallback& progress) {
         RefineShare share{*comm_, partition_, cost_, split_log_};
+        share.shares = &sampled_shares_;
         // Links live in a round about three times over (settled or to be judged, the round's
         // tasks, their evaluations), each vector up to twice its size as it grows: what the
         // memory limit leaves after the nodes allows so many.
@@ -363,9 +384,17 @@ class HierarchySolve {
     /// links averaged over a larger receiver can gather more than 1 per unit B), q is the
     /// largest of the last three observed contractions change_k / change_k-1, an estimate
     /// rather than a bound, which the guard backs (2 sweeps_needed + 10 at that q, at most 1000).
-    void iterate(double tolerance, std::size_t cap, const ProgressCallback& progress,
-                 Report& report, HierarchyReport& hr) {
+    template <Visibility V>
+    void iterate(const V& scene, double tolerance, std::size_t cap,
+                 const ProgressCallback& progress, Report& report, HierarchyReport& hr) {
         const LinkGroups groups = group_links(links_);
+        // The class shares of the links with a mixed cluster at an end: from the refinement's
+        // samples and the last pass's table; sampled again where neither has them (a link
+        // sampled on another rank, a solve resumed from a checkpoint).
+        const auto t_shares = std::chrono::steady_clock::now();
+        shares_ = group_shares(
+            groups, class_shares(h_, scene, links_, o_.cluster_samples, o_.seed, known_shares()));
+        hr.share_seconds += seconds_since(t_shares);
         ReceiverExchange exchange(*comm_, groups);
         std::vector<double> row(h_.size(), 0.0), total, down, mine;
         // The exchange's: per receiver, H and, for a cluster, its orientation classes' Hc.
@@ -378,7 +407,7 @@ class HierarchySolve {
         pull(h_, v_);  // Bc from B under these S (a resumed solve has B from its checkpoint only)
         for (;;) {
             auto t = std::chrono::steady_clock::now();
-            gather_links(links_, groups, v_);
+            gather_links(links_, groups, shares_, v_);
             hr.gather_seconds += seconds_since(t);
             t = std::chrono::steady_clock::now();
             std::array<double, 2> control{checkpoint_due(), stop_ ? 1.0 : 0.0};
@@ -502,6 +531,8 @@ class HierarchySolve {
     std::vector<std::uint64_t> cost_;  // per position of the cluster order, this pass
     NodeValues<K> v_;
     LinkVector links_;
+    GroupShares shares_;                       // of links_, for the sweeps (class_shares)
+    std::vector<ClassShares> sampled_shares_;  // sampled by this rank's refinement since
     RefineRound round_;
     SolveState state_;
     std::vector<NodeId> split_log_;
