@@ -339,6 +339,18 @@ TEST_CASE("agreement with the dense ray-cast solve where blocks cast shadows") {
 
 namespace {
 
+/// HierarchySolve::set_materials's callback for a mesh's faces: each root's E and rho from the
+/// emission and reflectance of its face.
+auto materials_of(const Mesh<Rgb>& mesh) {
+    return [&mesh](std::uint32_t face, double* E, double* rho) {
+        const auto& d = mesh.data(mesh.face_handle(static_cast<int>(face)));
+        for (std::size_t k = 0; k < 3; ++k) {
+            E[k] = band(d.emission, k);
+            rho[k] = band(d.reflectance, k);
+        }
+    };
+}
+
 /// Howell's view factor between equal, parallel, directly opposed a x b rectangles c apart.
 double parallel_rectangles(double a, double b, double c) {
     const double X = a / c, Y = b / c, x = 1.0 + X * X, y = 1.0 + Y * Y;
@@ -425,13 +437,7 @@ TEST_CASE("a link's class shares sampled again are those its refinement sampled"
     const Mesh<Rgb> scene = build_mesh(box_under_square(6, lit, grey, lit));
     const HierarchicalOptions o{.link_error = 1e-5, .min_area = 1.0};
     detail::HierarchySolve<3> solve(detail::hierarchy_of(scene), o);
-    solve.set_materials([&](std::uint32_t face, double* E, double* rho) {
-        const auto& d = scene.data(scene.face_handle(static_cast<int>(face)));
-        for (std::size_t k = 0; k < 3; ++k) {
-            E[k] = band(d.emission, k);
-            rho[k] = band(d.reflectance, k);
-        }
-    });
+    solve.set_materials(materials_of(scene));
     HierarchyReport report;
     const Bvh bvh(solve.hierarchy().roots);
     solve.run(bvh, 1e-4, 0, {}, report);
@@ -481,13 +487,7 @@ TEST_CASE("a link's class shares sampled again are those its refinement sampled"
 TEST_CASE("link coefficients are reciprocal: A_r T_rs = A_s T_sr") {
     const Mesh<Rgb> box = subdivide(build_mesh(cornell_box<Rgb>(true)), SubdivisionOptions{});
     detail::HierarchySolve<3> solve(detail::hierarchy_of(box), HierarchicalOptions{});
-    solve.set_materials([&](std::uint32_t face, double* E, double* rho) {
-        const auto& d = box.data(box.face_handle(static_cast<int>(face)));
-        for (std::size_t k = 0; k < 3; ++k) {
-            E[k] = band(d.emission, k);
-            rho[k] = band(d.reflectance, k);
-        }
-    });
+    solve.set_materials(materials_of(box));
     HierarchyReport report;
     solve.run(Bvh(solve.hierarchy().roots), 1e-4, 0, {}, report);
     const Hierarchy& h = solve.hierarchy();
