@@ -28,9 +28,9 @@ namespace radiosity {
 /// visibility the fraction of rays between them that nothing blocks, kept apart so that the
 /// refinement oracle can judge a shadowed link by what it would carry unshadowed. A link with a
 /// mixed cluster at either end also divides its light among the orientation classes of the
-/// cluster's faces (ClassShares); that is not kept here but measured again for the sweeps
-/// (class_shares), from the same samples, so that the millions of links a refinement round
-/// makes and moves stay small.
+/// cluster's faces (ClassShares), which is kept beside the links, not in them (the refinement
+/// lists it as it samples; class_shares hands it to the sweeps), so that the millions of links
+/// a refinement round makes, sorts and sends between ranks stay small.
 struct Link {
     NodeId receiver;    ///< r
     NodeId source;      ///< s

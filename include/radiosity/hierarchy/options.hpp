@@ -82,7 +82,7 @@ struct HierarchyReport {
     double gather_seconds = 0.0;     ///< of solve_seconds: gathering over this rank's links
     double exchange_seconds = 0.0;   ///< of solve_seconds: the per-sweep exchange
     double push_pull_seconds = 0.0;  ///< of solve_seconds: push-pull
-    /// Of solve_seconds: sampling the class shares of the links again (class_shares).
+    /// Of solve_seconds: finding the links' class shares for the sweeps (class_shares).
     double share_seconds = 0.0;
     int ranks = 1;  ///< processes the solve was spread over
     /// Bytes this rank received in the last sweep's exchange (0 on one rank).

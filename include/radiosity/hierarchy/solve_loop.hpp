@@ -271,7 +271,7 @@ class HierarchySolve {
         known.insert(known.end(), shares_.entries.begin(), shares_.entries.end());
         sort_by_pair(known);
         // A pair is sampled once in a solve (a kept link keeps its samples, a split one is
-        // gone for good), but may come twice after a resume: alike, as its samples are its own.
+        // gone for good); should one come twice, its shares are alike (its samples are its own).
         known.erase(std::unique(known.begin(), known.end(),
                                 [](const ClassShares& a, const ClassShares& b) {
                                     return a.receiver == b.receiver && a.source == b.source;
