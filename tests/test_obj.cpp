@@ -166,6 +166,9 @@ TEST_CASE("OBJ numbers that tinyobjloader would read as 0 are refused with file 
         {"float.obj", "v 0 0 0\rv 1e39 0 0\rv 0 1 0\rf 1 2 3\r",
          "float.obj:2: vertex coordinate '1e39' is not a finite number"},
         {"hex.obj", "v 0x10 0 0\n" + tri, "hex.obj:1: vertex coordinate '0x10'"},
+        // strtod reads 0; tinyobjloader 0 times 10^2791, NaN (a fuzzer's find).
+        {"exponent.obj", "v 0 0 0\nv 1 0 0\nv 0 0.0E2791 1\nf 1 2 3\n",
+         "exponent.obj:3: a vertex coordinate is not a finite number as read"},
         {"kd.obj", "mtllib nan.mtl\nusemtl m\n" + tri,
          "nan.mtl:2: Kd 'nan' is not a finite number"},
         {"ke.obj", "mtllib short.mtl\nusemtl m\n" + tri, "short.mtl:3: Ke needs three numbers"},

@@ -83,17 +83,20 @@ inline bool is_obj_statement(const char* s, const char* keyword) {
 }
 
 /// The line and the true number of corners of every face ('f') statement of an OBJ text, in
-/// order (tinyobjloader makes one face of each, or warns).
+/// order (tinyobjloader makes one face of each, or warns), and the line of every vertex ('v').
 struct ObjFaceStatements {
     std::vector<std::size_t> line, corners;
+    std::vector<std::size_t> vertex_line;
 };
 
 /// Scans an OBJ text: checks every vertex's coordinates and finds the face statements. One pass.
 inline ObjFaceStatements scan_obj(const std::string& text, const std::string& path) {
     ObjFaceStatements faces;
     for_each_obj_line(text, [&](std::size_t n, const char* s) {
-        if (is_obj_statement(s, "v"))
+        if (is_obj_statement(s, "v")) {
             check_obj_numbers(s + 2, path + ":" + std::to_string(n), "vertex coordinate");
+            faces.vertex_line.push_back(n);
+        }
         if (!is_obj_statement(s, "f")) return;
         std::size_t corners = 0;  // words, as tinyobjloader reads one corner from each
         for (s += 2; *(s += std::strspn(s, " \t")) != '\0'; s += std::strcspn(s, " \t")) ++corners;
@@ -242,8 +245,21 @@ Scene<S> read_obj(const std::string& path) {
     Scene<S> scene;
     scene.source = path;
     const auto& v = obj.attrib.vertices;
-    for (std::size_t k = 0; k + 2 < v.size(); k += 3)
+    for (std::size_t k = 0; k + 2 < v.size(); k += 3) {
         scene.positions.emplace_back(v[k], v[k + 1], v[k + 2]);
+        // tinyobjloader's own number parser can make what strtod reads as finite infinite or
+        // NaN ("0.0E2791": 0 times 10 to a power past a double's range), so the coordinates
+        // are checked as it read them too.
+        const Vec3& p = scene.positions.back();
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+            const std::size_t i = k / 3;
+            const std::string line = i < statements.vertex_line.size()
+                                         ? ":" + std::to_string(statements.vertex_line[i])
+                                         : "";
+            throw Error(path + line + ": a vertex coordinate is not a finite number as read " +
+                        "(an exponent out of range?)");
+        }
+    }
     for (const auto& m : obj.materials) {
         detail::check_obj_material(m, path + ": material '" + m.name + "'");
         scene.materials.push_back(
