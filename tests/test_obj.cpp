@@ -150,6 +150,20 @@ TEST_CASE("OBJ polygons of any number of corners: 256, 300 and 10,000 corners al
     }
 }
 
+TEST_CASE("OBJ skin weights are ignored, whatever their numbers") {
+    // tinyobjloader would convert the joint id 9990000011 to int, which is undefined (a
+    // fuzzer's find): the statements are left out before it reads the file.
+    Scratch scratch;
+    const std::string path = scratch.write(
+        "weights.obj", "v 0 0 0\nv 2 0 0\n  vw 0 9990000011 1\nv 0 1 0\nvw\t1 nan 0.5\nf 1 2 3\n");
+    const Scene<Rgb> s = read_obj<Rgb>(path);
+    REQUIRE(s.positions.size() == 3);
+    REQUIRE(s.faces.size() == 1);
+    std::vector<Vec3> p;
+    for (auto v : s.faces[0]) p.push_back(s.positions[v]);
+    CHECK(polygon_area(p) == doctest::Approx(1.0));
+}
+
 TEST_CASE("OBJ numbers that tinyobjloader would read as 0 are refused with file and line") {
     Scratch scratch;
     scratch.write("nan.mtl", "newmtl m\nKd nan 0.5 0.5\n");

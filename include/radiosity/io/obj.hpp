@@ -76,6 +76,23 @@ inline void check_obj_numbers(const char* s, const std::string& at, const char* 
     }
 }
 
+/// Turns every skin weight statement ('vw', a tinyobjloader extension that radiosity has no use
+/// for) into a comment, in place, keeping every line where it was: tinyobjloader converts a
+/// joint id read as a real to int unchecked, undefined for one past int's range (a fuzzer's
+/// find). Cost: one pass over the text.
+inline void blank_skin_weights(std::string& text) {
+    for (std::size_t at = 0; at < text.size();) {
+        const std::size_t first = text.find_first_not_of(" \t", at);
+        if (first == std::string::npos) break;
+        if (text.compare(first, 2, "vw") == 0 && first + 2 < text.size() &&
+            (text[first + 2] == ' ' || text[first + 2] == '\t'))
+            text[first] = '#';
+        const std::size_t end = text.find_first_of("\r\n", first);
+        if (end == std::string::npos) break;
+        at = end + 1;
+    }
+}
+
 /// Whether statement s is the keyword followed by a space or a tab (tinyobjloader's test).
 inline bool is_obj_statement(const char* s, const char* keyword) {
     const std::size_t n = std::strlen(keyword);
@@ -223,14 +240,16 @@ void add_obj_faces(const ObjParse& obj, const ObjFaceStatements& statements, Sce
 /// line or material) for a missing or unreadable file, a missing MTL file, a face with fewer
 /// than 3 vertices or an index out of range, a coordinate, Kd or Ke that is not a finite number
 /// (as a float), or a Kd outside [0, 1). build_mesh then checks areas, naming the file too.
+/// Skin weights ('vw') are ignored.
 /// Cost: linear in the files.
 template <SpectrumType S>
 Scene<S> read_obj(const std::string& path) {
     namespace fs = std::filesystem;
     std::error_code ec;
-    const std::optional<std::string> text =
+    std::optional<std::string> text =
         fs::is_regular_file(path, ec) ? detail::slurp_file(path) : std::nullopt;
     if (!text) throw Error(path + ": no such file");
+    detail::blank_skin_weights(*text);
     const detail::ObjFaceStatements statements = detail::scan_obj(*text, path);
     detail::ObjParse obj;
     std::string warn, err;
