@@ -81,8 +81,13 @@ inline bool link_order(const Link& a, const Link& b) {
     return a.receiver < b.receiver || (a.receiver == b.receiver && a.source < b.source);
 }
 
+/// The order of link_order as one 64-bit key (receiver in the high half, source in the low).
+inline std::uint64_t pair_key(NodeId receiver, NodeId source) {
+    return std::uint64_t(receiver) << 32 | source;
+}
+
 /// Sorts items with a receiver and a source (links, ClassShares) by link_order. The same order
-/// by one 64-bit key per item (receiver in the high half), compared inline: std::sort through a
+/// by one 64-bit key per item (pair_key), compared inline: std::sort through a
 /// function pointer called link_order itself for each comparison (room3: 3% of the solve). In
 /// one piece per thread, sorted in parallel and then merged, pairs of neighbours at a time (the
 /// keys must be unique, so that the order is the same for any number of pieces). Cost:
@@ -90,7 +95,7 @@ inline bool link_order(const Link& a, const Link& b) {
 template <class Items>
 void sort_by_pair(Items& items) {
     using Item = typename Items::value_type;
-    const auto key = [](const Item& l) { return std::uint64_t(l.receiver) << 32 | l.source; };
+    const auto key = [](const Item& x) { return pair_key(x.receiver, x.source); };
     const auto less = [&key](const Item& a, const Item& b) { return key(a) < key(b); };
     const std::size_t n = items.size();
     const std::size_t pieces = n >= 65536 ? std::size_t(detail::thread_count()) : 1;
@@ -430,8 +435,8 @@ inline bool has_class_shares(const Hierarchy& h, const Link& l) {
 }
 
 /// The class shares of the links that have any (has_class_shares), in the links' order. Each
-/// taken from `known` (sorted by link_order, each pair once: what the refinement sampled, the
-/// last pass's) where it is there, found by walking the two lists side by side (the links
+/// taken from `known` (sorted by link_order: what the refinement sampled, the last pass's)
+/// where it is there, found by walking the two lists side by side (the links
 /// sorted by link_order too; unsorted, more are sampled again); else from sampled_transfer with
 /// the settings that sampled the link (`samples`, `seed`), which gives the very samples that
 /// gave its coefficient and visibility, since a link's stream is a function of its pair alone.
@@ -444,13 +449,12 @@ std::vector<ClassShares> class_shares(const Hierarchy& h, const V& scene, const 
                                       const std::vector<ClassShares>& known) {
     std::vector<ClassShares> out;
     std::vector<std::size_t> missing;  // positions in out still to sample
-    const auto key = [](NodeId r, NodeId s) { return std::uint64_t(r) << 32 | s; };
     std::size_t k = 0;
     for (const Link& l : links) {
         if (!has_class_shares(h, l)) continue;
-        const std::uint64_t want = key(l.receiver, l.source);
-        while (k < known.size() && key(known[k].receiver, known[k].source) < want) ++k;
-        if (k < known.size() && key(known[k].receiver, known[k].source) == want) {
+        const std::uint64_t want = pair_key(l.receiver, l.source);
+        while (k < known.size() && pair_key(known[k].receiver, known[k].source) < want) ++k;
+        if (k < known.size() && pair_key(known[k].receiver, known[k].source) == want) {
             out.push_back(known[k]);
         } else {
             missing.push_back(out.size());

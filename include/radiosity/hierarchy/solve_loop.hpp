@@ -263,20 +263,17 @@ class HierarchySolve {
         links_.shrink_to_fit();
     }
 
-    /// The class shares known on this rank, sorted by pair (link_order), each pair once: the
-    /// last table's and those the refinement sampled since (which it then forgets).
+    /// The class shares known on this rank, sorted by pair (link_order): the last table's
+    /// (sorted already) merged with those the refinement sampled since (which it then forgets).
     std::vector<ClassShares> known_shares() {
-        std::vector<ClassShares> known = std::move(sampled_shares_);
+        std::vector<ClassShares> sampled = std::move(sampled_shares_);
         sampled_shares_ = {};
-        known.insert(known.end(), shares_.entries.begin(), shares_.entries.end());
-        sort_by_pair(known);
-        // A pair is sampled once in a solve (a kept link keeps its samples, a split one is
-        // gone for good); should one come twice, its shares are alike (its samples are its own).
-        known.erase(std::unique(known.begin(), known.end(),
-                                [](const ClassShares& a, const ClassShares& b) {
-                                    return a.receiver == b.receiver && a.source == b.source;
-                                }),
-                    known.end());
+        sort_by_pair(sampled);
+        std::vector<ClassShares> known(sampled.size() + shares_.entries.size());
+        std::merge(sampled.begin(), sampled.end(), shares_.entries.begin(), shares_.entries.end(),
+                   known.begin(), [](const ClassShares& a, const ClassShares& b) {
+                       return pair_key(a.receiver, a.source) < pair_key(b.receiver, b.source);
+                   });
         return known;
     }
 

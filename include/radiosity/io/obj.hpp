@@ -76,27 +76,26 @@ inline void check_obj_numbers(const char* s, const std::string& at, const char* 
     }
 }
 
-/// Turns every skin weight statement ('vw', a tinyobjloader extension that radiosity has no use
-/// for) into a comment, in place, keeping every line where it was: tinyobjloader converts a
-/// joint id read as a real to int unchecked, undefined for one past int's range (a fuzzer's
-/// find). Cost: one pass over the text.
-inline void blank_skin_weights(std::string& text) {
-    for (std::size_t at = 0; at < text.size();) {
-        const std::size_t first = text.find_first_not_of(" \t", at);
-        if (first == std::string::npos) break;
-        if (text.compare(first, 2, "vw") == 0 && first + 2 < text.size() &&
-            (text[first + 2] == ' ' || text[first + 2] == '\t'))
-            text[first] = '#';
-        const std::size_t end = text.find_first_of("\r\n", first);
-        if (end == std::string::npos) break;
-        at = end + 1;
-    }
-}
-
 /// Whether statement s is the keyword followed by a space or a tab (tinyobjloader's test).
 inline bool is_obj_statement(const char* s, const char* keyword) {
     const std::size_t n = std::strlen(keyword);
     return std::strncmp(s, keyword, n) == 0 && (s[n] == ' ' || s[n] == '\t');
+}
+
+/// Turns every skin weight statement ('vw', a tinyobjloader extension that radiosity has no use
+/// for) into a comment, in place, keeping every line where it was: tinyobjloader converts a
+/// joint id read as a real to int unchecked, undefined for one past int's range (a fuzzer's
+/// find). A statement starts a line, as for_each_obj_line splits them. Cost: one pass over the
+/// text.
+inline void blank_skin_weights(std::string& text) {
+    for (std::size_t at = 0; at < text.size();) {
+        const std::size_t first = text.find_first_not_of(" \t", at);
+        if (first == std::string::npos) break;
+        if (is_obj_statement(text.c_str() + first, "vw")) text[first] = '#';
+        const std::size_t end = text.find_first_of("\r\n", first);
+        if (end == std::string::npos) break;
+        at = end + 1;
+    }
 }
 
 /// The line and the true number of corners of every face ('f') statement of an OBJ text, in
