@@ -4,6 +4,7 @@
 #include <radiosity/form_factor/analytic.hpp>
 #include <radiosity/form_factor/matrix.hpp>
 
+#include "support/approx.hpp"
 #include "support/refdata.hpp"
 
 #include <doctest/doctest.h>
@@ -75,13 +76,13 @@ TEST_CASE("point-to-polygon: one-sided, clipped to the horizon, zero behind") {
     const std::vector<Vec3> left{{-1, -1, 1}, {-1, 1, 1}, {0, 1, 1}, {0, -1, 1}};
     const std::vector<Vec3> right{{0, -1, 1}, {0, 1, 1}, {1, 1, 1}, {1, -1, 1}};
     const double whole = point_to_polygon(origin, side, square);
-    CHECK(whole == doctest::Approx(point_to_polygon(origin, side, left) +
-                                   point_to_polygon(origin, side, right))
-                       .epsilon(1e-12));
+    CHECK(whole ==
+          test::approx(point_to_polygon(origin, side, left) + point_to_polygon(origin, side, right))
+              .epsilon(1e-12));
     // Unit hemisphere identity: a huge square right above covers almost the whole hemisphere.
     const double L = 1e4;
     const std::vector<Vec3> sky{{-L, -L, 1}, {-L, L, 1}, {L, L, 1}, {L, -L, 1}};
-    CHECK(point_to_polygon(origin, up, sky) == doctest::Approx(1.0).epsilon(1e-6));
+    CHECK(point_to_polygon(origin, up, sky) == test::approx(1.0).epsilon(1e-6));
 }
 
 TEST_CASE("area-to-area analytic form factors match every scalar closed form to 1e-6") {
@@ -123,7 +124,7 @@ TEST_CASE("closed enclosures: the exact matrices, row sums 1, exact reciprocity"
             for (std::size_t j = 0; j < t.size(); ++j) {
                 CAPTURE(i);
                 CAPTURE(j);
-                CHECK(F(i, j) == doctest::Approx(expected[i][j]).epsilon(1e-6));
+                CHECK(F(i, j) == test::approx(expected[i][j]).epsilon(1e-6));
             }
         const MatrixCheck check = check_matrix(F, t.areas());
         CHECK(check.min_row_sum > 1.0 - 2e-6);
@@ -138,7 +139,7 @@ TEST_CASE("reciprocity of the doubles is exact, also for unequal patches") {
     Analytic method;
     method.prepare(t);
     CHECK(t.area(0) * method.pair(0, 1) ==
-          doctest::Approx(t.area(1) * method.pair(1, 0)).epsilon(1e-15));
+          test::approx(t.area(1) * method.pair(1, 0)).epsilon(1e-15));
 }
 
 TEST_CASE("analytic options are checked") {

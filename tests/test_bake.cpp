@@ -15,6 +15,7 @@
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
 
+#include "support/approx.hpp"
 #include "support/threads.hpp"
 
 #include <algorithm>
@@ -95,8 +96,8 @@ TEST_CASE("lightmap UVs go onto the mesh's corners, survive a copy and are valid
         const auto poly = face_polygon(copy, f);
         REQUIRE(uv.size() == poly.size());
         for (std::size_t k = 0; k < uv.size(); ++k) {
-            CHECK(uv[k].x == doctest::Approx(affine_uv(poly[k]).x));
-            CHECK(uv[k].y == doctest::Approx(affine_uv(poly[k]).y));
+            CHECK(uv[k].x == test::approx(affine_uv(poly[k]).x));
+            CHECK(uv[k].y == test::approx(affine_uv(poly[k]).y));
         }
     }
     Scene<float> bad = s;
@@ -122,16 +123,16 @@ TEST_CASE("subdivision interpolates the UVs: an affine UV map stays exact on eve
         const auto uv = corner_uvs(fine, f);
         const auto poly = face_polygon(fine, f);
         for (std::size_t k = 0; k < uv.size(); ++k) {
-            CHECK(uv[k].x == doctest::Approx(affine_uv(poly[k]).x).epsilon(1e-6));
-            CHECK(uv[k].y == doctest::Approx(affine_uv(poly[k]).y).epsilon(1e-6));
+            CHECK(uv[k].x == test::approx(affine_uv(poly[k]).x).epsilon(1e-6));
+            CHECK(uv[k].y == test::approx(affine_uv(poly[k]).y).epsilon(1e-6));
         }
     }
     // Smooth shading keeps them, one per output vertex.
     const ShadedMesh shaded = smooth_shading(fine);
     REQUIRE(shaded.uvs.size() == shaded.positions.size());
     for (std::size_t v = 0; v < shaded.uvs.size(); ++v) {
-        CHECK(shaded.uvs[v].x == doctest::Approx(affine_uv(shaded.positions[v]).x).epsilon(1e-6));
-        CHECK(shaded.uvs[v].y == doctest::Approx(affine_uv(shaded.positions[v]).y).epsilon(1e-6));
+        CHECK(shaded.uvs[v].x == test::approx(affine_uv(shaded.positions[v]).x).epsilon(1e-6));
+        CHECK(shaded.uvs[v].y == test::approx(affine_uv(shaded.positions[v]).y).epsilon(1e-6));
     }
 }
 
@@ -180,7 +181,7 @@ TEST_CASE("a linear radiosity is baked exactly: at covered texel centres, else t
             const Vec3 p((std::clamp(x + 0.5, 4.0, 24.0) - 4.0) / 20.0,
                          (std::clamp(y + 0.5, 6.0, 26.0) - 6.0) / 20.0, 0.0);
             for (int k = 0; k < 3; ++k)
-                CHECK(lm.image.pixels[i][k] == doctest::Approx(linear_light(p)[k]).epsilon(1e-5));
+                CHECK(lm.image.pixels[i][k] == test::approx(linear_light(p)[k]).epsilon(1e-5));
         }
 }
 
@@ -196,7 +197,7 @@ TEST_CASE("conservative rasterisation: a triangle thinner than a texel still get
     const Lightmap lm = bake_lightmap(m, size, size, no_inside_test());
     for (int x = 2; x < 12; ++x) {
         CHECK(lm.state[lm.index(x, 5)] == TexelState::surface);
-        CHECK(lm.image.pixels[lm.index(x, 5)].x == doctest::Approx(1.0f));
+        CHECK(lm.image.pixels[lm.index(x, 5)].x == test::approx(1.0f));
     }
 }
 
@@ -266,7 +267,7 @@ TEST_CASE("inside texels take their valid neighbours' light instead of staying b
         for (int x = 0; x < size; ++x) {
             const std::size_t i = lm.index(x, y);
             were_black += raw.image.pixels[i].x == 0.0f;
-            CHECK(lm.image.pixels[i].x == doctest::Approx(2.0f));
+            CHECK(lm.image.pixels[i].x == test::approx(2.0f));
         }
     CHECK(were_black == 16 * 16);
 }
@@ -398,7 +399,7 @@ TEST_CASE("EXR lightmaps hold linear radiance B / pi in 32-bit floats") {
     for (int i = 0; i < 64; ++i)
         for (int k = 0; k < 3; ++k)
             CHECK(rgba[4 * i + k] ==
-                  doctest::Approx(lm.image.pixels[i][k] / std::numbers::pi_v<float>));
+                  test::approx(lm.image.pixels[i][k] / std::numbers::pi_v<float>));
     std::free(rgba);
     fs::remove(path);
     CHECK_THROWS_WITH_AS(write_image(lm.image, temp("lm.tga").string()),

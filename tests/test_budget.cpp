@@ -4,6 +4,8 @@
 #include <radiosity/form_factor/budget.hpp>
 #include <radiosity/solve.hpp>
 
+#include "support/approx.hpp"
+
 #include <doctest/doctest.h>
 
 #include <chrono>
@@ -49,7 +51,7 @@ TEST_CASE("a 60,000-patch dense run is refused before it allocates its 14.4 GB")
     } catch (const MemoryLimitError& e) {
         message = e.what();
         CHECK(e.patches == 60000);
-        CHECK(e.bytes_needed == doctest::Approx(4.0 * 60000.0 * 60000.0));
+        CHECK(e.bytes_needed == test::approx(4.0 * 60000.0 * 60000.0));
         CHECK(e.limit_bytes == o.max_matrix_bytes);
         CHECK(e.estimated_seconds > 0.0);
     }

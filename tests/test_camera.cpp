@@ -6,6 +6,8 @@
 #include <radiosity/io/image.hpp>
 #include <radiosity/shading/camera.hpp>
 
+#include "support/approx.hpp"
+
 #include <doctest/doctest.h>
 
 #define STB_IMAGE_IMPLEMENTATION
@@ -46,8 +48,8 @@ TEST_CASE("a quad filling the view gives every pixel its colour") {
         render(m, looking_down_z, {.width = 64, .height = 48, .background = glm::vec3(-1.0f)});
     REQUIRE(img.pixels.size() == 64 * 48);
     for (const auto& p : img.pixels) {
-        CHECK(p.r == doctest::Approx(c.r));
-        CHECK(p.b == doctest::Approx(c.b));
+        CHECK(p.r == test::approx(c.r));
+        CHECK(p.b == test::approx(c.b));
     }
 }
 
@@ -179,12 +181,12 @@ TEST_CASE("interpolation is perspective-correct") {
     const int row =
         static_cast<int>(std::floor((0.5 + 0.5 * (1.0 / 6.0)) * size));  // z ~ -5, colour ~ 0.5
     const double t = 1.0 - 2.0 * (row + 0.5) / size;
-    CHECK(img.at(size / 2, row).r == doctest::Approx(-(1.0 + 1.0 / t) / 10.0).epsilon(1e-5));
+    CHECK(img.at(size / 2, row).r == test::approx(-(1.0 + 1.0 / t) / 10.0).epsilon(1e-5));
     // Near the far end of the floor (z ~ -8.5, colour ~ 0.85), where affine interpolation
     // would err most.
     const int far_row = static_cast<int>(std::floor((1.0 + 1.0 / 9.5) * size / 2.0));
     const double t2 = 1.0 - 2.0 * (far_row + 0.5) / size;
-    CHECK(img.at(size / 2, far_row).r == doctest::Approx(-(1.0 + 1.0 / t2) / 10.0).epsilon(1e-5));
+    CHECK(img.at(size / 2, far_row).r == test::approx(-(1.0 + 1.0 / t2) / 10.0).epsilon(1e-5));
 }
 
 TEST_CASE("bad camera and image options are refused, naming the option") {

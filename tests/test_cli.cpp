@@ -1,5 +1,7 @@
 // The radiosity program end to end: the dumps of a two-square OBJ reproduce the closed form
 // (Howell C-11), and bad input gives a one-line error and a non-zero exit status.
+#include "support/approx.hpp"
+
 #include <doctest/doctest.h>
 
 #define STB_IMAGE_IMPLEMENTATION
@@ -118,9 +120,9 @@ TEST_CASE("two-square OBJ: the dumped radiosities solve the two-patch system exa
     const auto P = read_csv(out("patches2.csv"), true);
     REQUIRE(P.size() == 2);
     // columns: patch,area,cx,cy,cz,nx,ny,nz,E_rgb(8..10),R_rgb(11..13),B_rgb(14..16)
-    CHECK(P[0][1] == doctest::Approx(1.0));
-    CHECK(P[0][7] == doctest::Approx(1.0));   // lower square faces +z
-    CHECK(P[1][7] == doctest::Approx(-1.0));  // upper square faces -z
+    CHECK(P[0][1] == radiosity::test::approx(1.0));
+    CHECK(P[0][7] == radiosity::test::approx(1.0));   // lower square faces +z
+    CHECK(P[1][7] == radiosity::test::approx(-1.0));  // upper square faces -z
     const double E[3] = {1, 2, 3}, R0 = 0.5, R1[3] = {0.5, 0.25, 0.75};
     for (int k = 0; k < 3; ++k) {
         // B0 = E + R0 F B1, B1 = R1 F B0  =>  B0 = E / (1 - R0 R1 F^2)
@@ -140,7 +142,7 @@ TEST_CASE("--divide and --max-area split by area, and only one of them is taken"
         REQUIRE_MESSAGE(r.status == 0, r.err);
         const auto P = read_csv(out("divided.csv"), true);
         REQUIRE(P.size() == 8);
-        for (const auto& p : P) CHECK(p[1] == doctest::Approx(0.25));
+        for (const auto& p : P) CHECK(p[1] == radiosity::test::approx(0.25));
     }
     check_one_line_error("'" + data("cli_two_squares.obj") + "' --divide 1 --max-area 1",
                          "max-area");
@@ -187,8 +189,8 @@ TEST_CASE("an L-shaped floor: its patches cover area 3, none in its notch, a sli
             ceiling += p[1];
         }
     }
-    CHECK(floor == doctest::Approx(3.0).epsilon(1e-6));  // the dump's 9 digits
-    CHECK(ceiling == doctest::Approx(4.0).epsilon(1e-6));
+    CHECK(floor == radiosity::test::approx(3.0).epsilon(1e-6));  // the dump's 9 digits
+    CHECK(ceiling == radiosity::test::approx(4.0).epsilon(1e-6));
     CHECK(in_notch == 0);
 }
 
@@ -400,15 +402,15 @@ TEST_CASE("glTF is written in metres: the Cornell box's millimetres, --unit for 
         return number_after("\"max\"") - number_after("\"min\"");
     };
     REQUIRE(run("cornell-empty --max-edge 200 --gltf '" + out("mm.gltf") + "'").status == 0);
-    CHECK(x_extent(out("mm.gltf")) == doctest::Approx(0.556).epsilon(1e-4));
+    CHECK(x_extent(out("mm.gltf")) == radiosity::test::approx(0.556).epsilon(1e-4));
     // A file's unit: metres unless --unit says otherwise (the two squares are 1 unit wide).
     const std::string sq = "'" + data("cli_two_squares.obj") + "' --max-edge 0 --gltf ";
     REQUIRE(run(sq + "'" + out("m.gltf") + "'").status == 0);
-    CHECK(x_extent(out("m.gltf")) == doctest::Approx(1.0));
+    CHECK(x_extent(out("m.gltf")) == radiosity::test::approx(1.0));
     REQUIRE(run(sq + "'" + out("cm.gltf") + "' --unit cm").status == 0);
-    CHECK(x_extent(out("cm.gltf")) == doctest::Approx(0.01));
+    CHECK(x_extent(out("cm.gltf")) == radiosity::test::approx(0.01));
     REQUIRE(run(sq + "'" + out("in.gltf") + "' --unit 0.0254").status == 0);
-    CHECK(x_extent(out("in.gltf")) == doctest::Approx(0.0254));
+    CHECK(x_extent(out("in.gltf")) == radiosity::test::approx(0.0254));
     check_one_line_error(sq + "'" + out("x.gltf") + "' --unit furlong", "--unit");
 }
 
@@ -516,5 +518,6 @@ TEST_CASE("a box pushed through a room's wall: the program says what it cut, --n
     REQUIRE_MESSAGE(whole.status == 0, whole.err);
     CHECK(whole.err.find("meshing") == std::string::npos);
     // The CSV's areas have 9 significant digits.
-    CHECK(area(out("cut.csv")) + 0.9 == doctest::Approx(area(out("whole.csv"))).epsilon(1e-7));
+    CHECK(area(out("cut.csv")) + 0.9 ==
+          radiosity::test::approx(area(out("whole.csv"))).epsilon(1e-7));
 }

@@ -19,6 +19,8 @@
 #include <radiosity/geometry/embree.hpp>
 #endif
 
+#include "support/approx.hpp"
+
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -346,13 +348,13 @@ TEST_CASE("a method with only the members FormFactorMethod requires is assembled
     method.prepare(t);
     const DenseMatrix F = assemble_dense(method, t.size());
     const MatrixCheck check = check_matrix(F, t.areas());
-    CHECK(check.min_row_sum == doctest::Approx(1.0).epsilon(1e-6));
-    CHECK(check.max_row_sum == doctest::Approx(1.0).epsilon(1e-6));
+    CHECK(check.min_row_sum == test::approx(1.0).epsilon(1e-6));
+    CHECK(check.max_row_sum == test::approx(1.0).epsilon(1e-6));
     const std::vector<float> E(t.size(), 1.0f), R(t.size(), 0.5f);
     const System<float> system{E, R, t.areas()};
     const Solution<float> B = Jacobi({.tolerance = 1e-7}).solve(system, F);
     REQUIRE(B.report.converged);
-    for (float b : B.radiosity) CHECK(b == doctest::Approx(2.0).epsilon(1e-5));
+    for (float b : B.radiosity) CHECK(b == test::approx(2.0).epsilon(1e-5));
 }
 
 TEST_CASE("a Visibility with only occluded() and a constructor from the table plugs into RayCast") {
@@ -377,11 +379,11 @@ TEST_CASE("a Visibility with only occluded() and a constructor from the table pl
     bvh.prepare(t);
     const double unoccluded = through.pair(0, 1);
     // Parallel unit squares 2 apart (Howell C-11, X = Y = 1/2): F = 0.0685896.
-    CHECK(unoccluded == doctest::Approx(0.0685896).epsilon(1e-3));
+    CHECK(unoccluded == test::approx(0.0685896).epsilon(1e-3));
     CHECK(unoccluded == brute.pair(0, 1));
     CHECK(blocked.pair(0, 1) == 0.0);
     CHECK(bvh.pair(0, 1) == 0.0);
     Analytic<NothingInTheWay> analytic({.visibility_samples = 16});
     analytic.prepare(t);
-    CHECK(analytic.pair(0, 1) == doctest::Approx(unoccluded).epsilon(0.01));
+    CHECK(analytic.pair(0, 1) == test::approx(unoccluded).epsilon(0.01));
 }

@@ -4,6 +4,8 @@
 #include <radiosity/mesh/mesh.hpp>
 #include <radiosity/solver/system.hpp>
 
+#include "support/approx.hpp"
+
 #include <doctest/doctest.h>
 
 #include <cstdint>
@@ -15,24 +17,24 @@ TEST_CASE("spectrum arithmetic is per band") {
     const Rgb a{0.5f, 0.25f, 1.0f}, b{2.0f, 4.0f, 0.5f};
     CHECK(a * b == Rgb{1.0f, 1.0f, 0.5f});
     CHECK(a + b == Rgb{2.5f, 4.25f, 1.5f});
-    CHECK(max_abs(a - b) == doctest::Approx(3.75f));
-    CHECK(band(a * 2.0f, 2) == doctest::Approx(2.0f));
+    CHECK(max_abs(a - b) == test::approx(3.75f));
+    CHECK(band(a * 2.0f, 2) == test::approx(2.0f));
     CHECK_FALSE(all_finite(Rgb{1.0f, NAN, 0.0f}));
 }
 
 TEST_CASE("polygon area, normal and centroid of a unit square") {
     const std::vector<Vec3> sq{{0, 0, 0}, {2, 0, 0}, {2, 1, 0}, {0, 1, 0}};
-    CHECK(polygon_area(sq) == doctest::Approx(2.0));
-    CHECK(polygon_normal(sq).z == doctest::Approx(1.0));
+    CHECK(polygon_area(sq) == test::approx(2.0));
+    CHECK(polygon_normal(sq).z == test::approx(1.0));
     const Vec3 c = polygon_centroid(sq);
-    CHECK(c.x == doctest::Approx(1.0));
-    CHECK(c.y == doctest::Approx(0.5));
+    CHECK(c.x == test::approx(1.0));
+    CHECK(c.y == test::approx(0.5));
 }
 
 TEST_CASE("clipping a square to a plane keeps the front half") {
     const std::vector<Vec3> sq{{0, 0, 0}, {2, 0, 0}, {2, 2, 0}, {0, 2, 0}};
     const auto half = clip_to_plane(sq, Vec3(1, 0, 0), Vec3(1, 0, 0));
-    CHECK(polygon_area(half) == doctest::Approx(2.0));
+    CHECK(polygon_area(half) == test::approx(2.0));
     CHECK(clip_to_plane(sq, Vec3(5, 0, 0), Vec3(1, 0, 0)).empty());
 }
 
@@ -53,7 +55,7 @@ TEST_CASE("build_mesh carries materials to faces and rejects bad input") {
     const auto mesh = build_mesh(s);
     CHECK(mesh.n_faces() == 2);
     CHECK(face_emission(mesh)[1] == Rgb(1.0f));
-    CHECK(make_patch_table(mesh).area(0) == doctest::Approx(0.5));
+    CHECK(make_patch_table(mesh).area(0) == test::approx(0.5));
 
     auto bad = s;
     bad.materials[0].reflectance = Rgb(1.0f);
@@ -73,11 +75,11 @@ TEST_CASE("check_matrix measures reciprocity and row sums") {
     F.row(1)[0] = 0.5f;
     const std::vector<double> area{1.0, 2.0};
     const auto c = check_matrix(F, area);
-    CHECK(c.reciprocity_error == doctest::Approx(0.0));
-    CHECK(c.min_row_sum == doctest::Approx(0.5));
-    CHECK(c.max_row_sum == doctest::Approx(1.0));
+    CHECK(c.reciprocity_error == test::approx(0.0));
+    CHECK(c.min_row_sum == test::approx(0.5));
+    CHECK(c.max_row_sum == test::approx(1.0));
     F.row(1)[0] = 0.25f;
-    CHECK(check_matrix(F, area).reciprocity_error == doctest::Approx(0.5));
+    CHECK(check_matrix(F, area).reciprocity_error == test::approx(0.5));
 }
 
 TEST_CASE("the bulk allocator keeps a list's values as it grows past a huge page") {

@@ -3,6 +3,8 @@
 // the clamped linear values, and the .glb container has the right header and chunks.
 #include <radiosity/io/gltf.hpp>
 
+#include "support/approx.hpp"
+
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
 
@@ -54,8 +56,7 @@ void check_document(const nlohmann::json& doc, const std::vector<std::uint8_t>& 
     for (std::size_t v = 0; v < m.positions.size(); ++v)
         for (int k = 0; k < 3; ++k) {
             CHECK(position[3 * v + k] == static_cast<float>(m.positions[v][k]));
-            CHECK(colour[3 * v + k] ==
-                  doctest::Approx(std::clamp(scale * m.colours[v][k], 0.0, 1.0)));
+            CHECK(colour[3 * v + k] == test::approx(std::clamp(scale * m.colours[v][k], 0.0, 1.0)));
         }
     CHECK(acc[prim["indices"].get<int>()]["count"] == m.triangles.size() * 3);
     CHECK(acc[prim["attributes"]["POSITION"].get<int>()]["max"][0] == 2.0);

@@ -4,6 +4,8 @@
 #include <radiosity/io/gltf.hpp>
 #include <radiosity/io/gltf_read.hpp>
 
+#include "support/approx.hpp"
+
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
 
@@ -258,7 +260,7 @@ TEST_CASE("glTF reader: normalized unsigned byte and short UVs") {
     Scene<Rgb> s = read_gltf<Rgb>(save(g, "u16"));
     REQUIRE(s.face_uvs.size() == 1);
     CHECK(s.face_uvs[0][1] == glm::vec2(1.0f, 0.0f));
-    CHECK(s.face_uvs[0][2].x == doctest::Approx(32768.0 / 65535.0));
+    CHECK(s.face_uvs[0][2].x == test::approx(32768.0 / 65535.0));
     CHECK(s.face_uvs[0][2].y == 1.0f);
     const int u8 =
         g.accessor(std::vector<std::uint8_t>{0, 0, 255, 0, 51, 255}, 5121, "VEC2", 3, true);
@@ -372,7 +374,7 @@ TEST_CASE("glTF reader: baseColorFactor and emissiveFactor become the materials"
     CHECK(s.materials[2].reflectance == Rgb(0.5f));
     CHECK(s.face_material == std::vector<std::uint32_t>{1, 2});
     CHECK(read_gltf<float>(save(g, "materials")).materials[1].emission ==
-          doctest::Approx(5.0f));  // grey: the mean of r, g and b
+          test::approx(5.0f));  // grey: the mean of r, g and b
     CHECK_NOTHROW(build_mesh(s));
 }
 

@@ -4,6 +4,7 @@
 #include <radiosity/form_factor/hemicube.hpp>
 #include <radiosity/form_factor/matrix.hpp>
 
+#include "support/approx.hpp"
 #include "support/refdata.hpp"
 
 #include <doctest/doctest.h>
@@ -34,10 +35,12 @@ std::vector<Vec3> square(double cx, double cy, double z, double s, bool up) {
 }  // namespace
 
 TEST_CASE("the delta form factors of the hemicube add up to 1") {
+    // Each delta form factor is the kernel at its pixel's centre: the midpoint rule, whose sum
+    // is off 1 by O(1 / r^2) (0.542 / r^2 at every resolution from 32 to 512).
     for (int r : {64, 128, 256}) {
         CAPTURE(r);
-        CHECK(Hemicube({.resolution = r}).delta_form_factor_sum() ==
-              doctest::Approx(1.0).epsilon(1e-4));
+        const double sum = Hemicube({.resolution = r}).delta_form_factor_sum();
+        CHECK(std::abs(sum - 1.0) < 0.6 / (double(r) * r));
     }
 }
 
@@ -81,8 +84,8 @@ TEST_CASE("hemicube rows of a closed box sum to 1 and match the exact matrix to 
     h.prepare(t);
     const DenseMatrix F = assemble_dense(h, t.size());
     const MatrixCheck check = check_matrix(F, t.areas());
-    CHECK(check.min_row_sum == doctest::Approx(1.0).epsilon(1e-4));
-    CHECK(check.max_row_sum == doctest::Approx(1.0).epsilon(1e-4));
+    CHECK(check.min_row_sum == test::approx(1.0).epsilon(1e-4));
+    CHECK(check.max_row_sum == test::approx(1.0).epsilon(1e-4));
     // From the centre of a face the other faces are seen as: opposite 0.2 -> point value
     // differs from the area value, so compare with the point-to-polygon value at the centre.
     for (std::size_t i = 0; i < t.size(); ++i)

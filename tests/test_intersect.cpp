@@ -9,6 +9,8 @@
 #include <radiosity/mesh/subdivide.hpp>
 #include <radiosity/solve.hpp>
 
+#include "support/approx.hpp"
+
 #include <doctest/doctest.h>
 
 #include <array>
@@ -102,8 +104,8 @@ TEST_CASE("a box pushed halfway into a wall: no patch straddles the wall, the ar
     // A single wall is not a closed object: the box behind it stays. The part of the wall
     // inside the closed box, its 0.8 x 0.8 cross-section, is left out.
     CHECK(r.left_out == 1);
-    CHECK(r.left_out_area == doctest::Approx(0.8 * 0.8).epsilon(1e-12));
-    CHECK(mesh_area(cut.mesh) + r.left_out_area == doctest::Approx(before).epsilon(1e-12));
+    CHECK(r.left_out_area == test::approx(0.8 * 0.8).epsilon(1e-12));
+    CHECK(mesh_area(cut.mesh) + r.left_out_area == test::approx(before).epsilon(1e-12));
     double behind = 0.0;
     for (auto f : cut.mesh.faces()) {
         const auto p = face_polygon(cut.mesh, f);
@@ -113,7 +115,7 @@ TEST_CASE("a box pushed halfway into a wall: no patch straddles the wall, the ar
         else if (c.x < 0.0)
             behind += polygon_area(p);
     }
-    CHECK(behind == doctest::Approx(0.4 * 2 * (0.8 + 0.8) + 0.8 * 0.8).epsilon(1e-12));
+    CHECK(behind == test::approx(0.4 * 2 * (0.8 + 0.8) + 0.8 * 0.8).epsilon(1e-12));
     REQUIRE(cut.report.lines().size() == 1);
     CHECK(cut.report.lines()[0] ==
           "meshing: cut 5 face(s) where other faces cross them; left out 1 piece(s) inside "
@@ -132,8 +134,8 @@ TEST_CASE("a box pushed into a closed room's floor: the floor under it is left o
     // The room faces in: what lies outside it is in no solid, so the box's foot stays (its
     // patches see only backs and get no light); the floor inside the box goes.
     CHECK(r.left_out == 1);
-    CHECK(r.left_out_area == doctest::Approx(0.9 * 0.9).epsilon(1e-12));
-    CHECK(mesh_area(cut.mesh) + r.left_out_area == doctest::Approx(mesh_area(mesh)).epsilon(1e-12));
+    CHECK(r.left_out_area == test::approx(0.9 * 0.9).epsilon(1e-12));
+    CHECK(mesh_area(cut.mesh) + r.left_out_area == test::approx(mesh_area(mesh)).epsilon(1e-12));
 }
 
 TEST_CASE("a box pushed into a solid block: what lies inside the other is left out on both") {
@@ -148,12 +150,12 @@ TEST_CASE("a box pushed into a solid block: what lies inside the other is left o
     // The box's bottom (0.8 x 0.5) and the lower 0.4 of its sides (perimeter 2.6) lie in the
     // block; the block's top under the box (0.8 x 0.5) lies in the box.
     CHECK(r.left_out == 1 + 4 + 1);
-    CHECK(r.left_out_area == doctest::Approx(0.4 + 0.4 * 2.6 + 0.4).epsilon(1e-12));
+    CHECK(r.left_out_area == test::approx(0.4 + 0.4 * 2.6 + 0.4).epsilon(1e-12));
     for (auto f : cut.mesh.faces()) {
         const Vec3 c = polygon_centroid(face_polygon(cut.mesh, f));
         if (cut.mesh.data(f).surface >= 6) CHECK(c.y > 0.0);  // the box: only above the block
     }
-    CHECK(mesh_area(cut.mesh) + r.left_out_area == doctest::Approx(mesh_area(mesh)).epsilon(1e-12));
+    CHECK(mesh_area(cut.mesh) + r.left_out_area == test::approx(mesh_area(mesh)).epsilon(1e-12));
 }
 
 TEST_CASE("faces that only touch are not cut: blocks on a floor, against a wall, the Cornell box") {
@@ -196,7 +198,7 @@ TEST_CASE("room3: the lamp barrels are cut where they enter their globes, the pa
     double before = 0.0, after = 0.0;
     for (auto f : mesh.faces()) before += polygon_area(face_polygon(mesh, f));
     for (auto f : sub.mesh.faces()) after += polygon_area(face_polygon(sub.mesh, f));
-    CHECK(after + r.left_out_area == doctest::Approx(before).epsilon(1e-9));
+    CHECK(after + r.left_out_area == test::approx(before).epsilon(1e-9));
     // The two lamps under the ceiling: a globe of radius R = 2.5 centred on the bottom of a
     // barrel of radius 1.25 (a 20-gon prism). Inside the globe lie the barrel's bottom cap and
     // its side up to where a sphere of radius R meets the cylinder, h = sqrt(R^2 - r^2); inside
@@ -215,8 +217,8 @@ TEST_CASE("room3: the lamp barrels are cut where they enter their globes, the pa
     }
     MESSAGE("ceiling lamps: barrels " << barrels << " left out (smooth estimate " << 2 * barrel
                                       << "), globes " << globes << " (" << 2 * globe << ")");
-    CHECK(barrels == doctest::Approx(2 * barrel).epsilon(0.03));
-    CHECK(globes == doctest::Approx(2 * globe).epsilon(0.03));
+    CHECK(barrels == test::approx(2 * barrel).epsilon(0.03));
+    CHECK(globes == test::approx(2 * globe).epsilon(0.03));
 }
 
 namespace {
@@ -292,7 +294,7 @@ TEST_CASE("the lit side of a box pushed into a wall converges to the box modelle
             const double a = mean_b(cut, pick), b = mean_b(hand, pick), c = mean_b(uncut, pick);
             MESSAGE("max edge " << edge << ", " << name << ": cut " << a << ", by hand " << b
                                 << ", uncut " << c);
-            CHECK(a == doctest::Approx(b).epsilon(0.01));
+            CHECK(a == test::approx(b).epsilon(0.01));
             if (name == "wall") CHECK(std::abs(c - b) > 5.0 * std::abs(a - b));
         }
     }
@@ -338,8 +340,7 @@ TEST_CASE("random crossing triangles and boxes, some on a grid: the meshing's ch
         Subdivided<float> sub;
         REQUIRE_NOTHROW(sub = subdivide_with_report(mesh, {.max_edge = trial % 2 ? 0.0 : 0.15}));
         const IntersectionReport& r = sub.report.intersections;
-        CHECK(mesh_area(sub.mesh) + r.left_out_area ==
-              doctest::Approx(mesh_area(mesh)).epsilon(1e-9));
+        CHECK(mesh_area(sub.mesh) + r.left_out_area == test::approx(mesh_area(mesh)).epsilon(1e-9));
         cut_faces += r.cut_faces;
         left_out += r.left_out;
         failed += r.failed_faces;

@@ -10,6 +10,7 @@
 #include <radiosity/shading/tonemap.hpp>
 
 #include <doctest/doctest.h>
+#include "support/approx.hpp"
 #include "support/threads.hpp"
 
 #include <algorithm>
@@ -235,7 +236,7 @@ TEST_CASE("a scene's own UVs are used as they are, and the patches follow the te
     o.texels_per_patch = 4.0;
     const auto r = bake(build_mesh(s), SolveOptions{}, o);
     CHECK_FALSE(r.generated_uvs);
-    CHECK(r.atlas.texel_density == doctest::Approx(16.0));
+    CHECK(r.atlas.texel_density == test::approx(16.0));
     CHECK(r.solution.patches.size() == 16 * 8 + 16 * 4);  // 0.25-unit patches: 4 texels each
     // The floor's texels hold light that falls off away from the glowing wall (y = 0).
     const auto& lm = r.lightmap;
@@ -274,7 +275,7 @@ TEST_CASE("a baked glTF read back keeps its lightmap UVs, and a second bake uses
     o.bake.inside_rays = 0;
     const auto again = bake(build_mesh(scene), SolveOptions{}, o);
     CHECK_FALSE(again.generated_uvs);
-    CHECK(again.atlas.texel_density == doctest::Approx(b.atlas.texel_density).epsilon(0.01));
+    CHECK(again.atlas.texel_density == test::approx(b.atlas.texel_density).epsilon(0.01));
     // The same texels are covered as in the first bake (the same triangles in the same places).
     std::size_t same = 0, covered = 0;
     for (std::size_t i = 0; i < b.lightmap.state.size(); ++i) {

@@ -4,6 +4,7 @@
 #include <radiosity/form_factor/matrix.hpp>
 #include <radiosity/solver/gauss_seidel.hpp>
 
+#include "support/approx.hpp"
 #include "support/refdata.hpp"
 
 #include <doctest/doctest.h>
@@ -27,7 +28,7 @@ TEST_CASE("sparse rows: threshold 0 keeps the dense matrix, a threshold drops wh
     const SparseMatrix adjacent = assemble_sparse(method, t.size(), 0.2f);
     CHECK(adjacent.non_zeros() == 24);
     const MatrixCheck check = check_matrix(adjacent, t.areas());
-    CHECK(check.max_row_sum == doctest::Approx(1.0 - 0.199824895698).epsilon(1e-6));
+    CHECK(check.max_row_sum == test::approx(1.0 - 0.199824895698).epsilon(1e-6));
 }
 
 TEST_CASE("a solver over sparse rows gives the dense result") {
@@ -41,7 +42,7 @@ TEST_CASE("a solver over sparse rows gives the dense result") {
     const auto sparse = GaussSeidel({.tolerance = 1e-8, .max_iterations = 1000})
                             .solve(system, assemble_sparse(method, t.size(), 0.0f));
     for (std::size_t i = 0; i < 6; ++i)
-        CHECK(sparse.radiosity[i] == doctest::Approx(dense.radiosity[i]).epsilon(1e-7));
+        CHECK(sparse.radiosity[i] == test::approx(dense.radiosity[i]).epsilon(1e-7));
 }
 
 TEST_CASE("a dense matrix starts at zero, small or mapped from the kernel, and copies") {

@@ -2,6 +2,8 @@
 // input refused with a one-line message naming the file (and the line where it can).
 #include <radiosity/io/obj.hpp>
 
+#include "support/approx.hpp"
+
 #include <doctest/doctest.h>
 
 #include <filesystem>
@@ -145,7 +147,7 @@ TEST_CASE("OBJ polygons of any number of corners: 256, 300 and 10,000 corners al
         // A regular n-gon inscribed in the unit circle: n/2 sin(2 pi / n), to the 6 digits
         // written.
         const double exact = 0.5 * double(n) * std::sin(2.0 * std::numbers::pi / double(n));
-        CHECK(polygon_area(p) == doctest::Approx(exact).epsilon(1e-5));
+        CHECK(polygon_area(p) == test::approx(exact).epsilon(1e-5));
         CHECK(build_mesh(s).n_faces() == 2);
     }
 }
@@ -166,7 +168,7 @@ TEST_CASE("OBJ skin weights are ignored, whatever their numbers") {
     REQUIRE(s.faces.size() == 1);
     std::vector<Vec3> p;
     for (auto v : s.faces[0]) p.push_back(s.positions[v]);
-    CHECK(polygon_area(p) == doctest::Approx(1.0));
+    CHECK(polygon_area(p) == test::approx(1.0));
 }
 
 TEST_CASE("OBJ numbers that tinyobjloader would read as 0 are refused with file and line") {

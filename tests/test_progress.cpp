@@ -8,6 +8,7 @@
 #include <radiosity/solver/jacobi.hpp>
 #include <radiosity/solver/progressive.hpp>
 
+#include "support/approx.hpp"
 #include "support/refdata.hpp"
 
 #include <doctest/doctest.h>
@@ -127,7 +128,7 @@ TEST_CASE("progressive shooting reports B and the unshot radiosity after every s
         // The residual is the unshot power over the emitted power, re-summed at every report.
         double unshot = 0.0;
         for (std::size_t i = 0; i < 18; ++i) unshot += std::abs(seen[k].unshot[i]) * 1.0;
-        CHECK(seen[k].residual == doctest::Approx(unshot / emitted).epsilon(1e-12));
+        CHECK(seen[k].residual == test::approx(unshot / emitted).epsilon(1e-12));
         // The values after k + 1 shots are what shooting returns when stopped there.
         ProgressiveOptions capped = every_shot;
         capped.max_iterations = k + 1;

@@ -10,6 +10,7 @@
 #include <radiosity/geometry/sampling.hpp>
 
 #include "../benchmarks/support/rooms.hpp"
+#include "support/approx.hpp"
 #include "support/refdata.hpp"
 
 #include <doctest/doctest.h>
@@ -59,7 +60,7 @@ TEST_CASE("bvh: closest hits and occlusion against a hand-made scene") {
     const auto hit = bvh.intersect(Vec3(0.1, 0.2, 3.0), Vec3(0, 0, -1));
     REQUIRE(hit);
     CHECK(hit->patch == 2);
-    CHECK(hit->t == doctest::Approx(1.0));
+    CHECK(hit->t == test::approx(1.0));
     const auto below = bvh.intersect(Vec3(0.1, 0.2, 1.5), Vec3(0, 0, -1));
     REQUIRE(below);
     CHECK(below->patch == 1);

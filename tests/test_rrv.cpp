@@ -5,6 +5,8 @@
 #include <radiosity/io/rrv.hpp>
 #include <radiosity/mesh/subdivide.hpp>
 
+#include "support/approx.hpp"
+
 #include <doctest/doctest.h>
 
 #include <filesystem>
@@ -89,7 +91,7 @@ TEST_CASE("RRV strips keep one winding, colours override from set to triangle") 
     for (const auto& f : s.faces) {
         std::vector<Vec3> p;
         for (auto v : f) p.push_back(s.positions[v]);
-        CHECK(polygon_normal(p).z == doctest::Approx(1.0));  // both counter-clockwise from +z
+        CHECK(polygon_normal(p).z == test::approx(1.0));  // both counter-clockwise from +z
     }
     CHECK(s.materials[s.face_material[0]].emission == Rgb(0.0f));
     CHECK(s.materials[s.face_material[1]].emission == Rgb(1.0f, 2.0f, 3.0f));
@@ -141,7 +143,7 @@ TEST_CASE("RRV's divide rule on room3: no patch over 1.0, RRV's 9,680 patches wh
     }
     for (auto f : mesh.faces()) before += polygon_area(face_polygon(mesh, f));
     CHECK(largest <= 1.0);
-    CHECK(total == doctest::Approx(before).epsilon(1e-9));
+    CHECK(total == test::approx(before).epsilon(1e-9));
     o.conforming = false;  // RRV's own way: each triangle by itself
     CHECK(subdivide(mesh, o).n_faces() == 9680);
 }
@@ -268,7 +270,7 @@ TEST_CASE("RRV rotations: huge angles and axes of extreme length stay exact rota
     // An angle of 1e308 degrees stays finite (it was infinite in radians, then NaN).
     const Vec3 far = corner("<rotate angle=\"1e308\" dx=\"1\" dy=\"1\">");
     CHECK(std::isfinite(far.x + far.y + far.z));
-    CHECK(glm::length(far) == doctest::Approx(1.0));
+    CHECK(glm::length(far) == test::approx(1.0));
     // An axis of length 1e-200 or 1e200 is the same axis as one of length 1.
     const Vec3 unit = corner("<rotate angle=\"30\" dx=\"1\" dy=\"2\" dz=\"3\">");
     for (const char* axis :

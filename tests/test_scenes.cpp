@@ -6,6 +6,7 @@
 #include <radiosity/io/scenes.hpp>
 #include <radiosity/mesh/subdivide.hpp>
 
+#include "support/approx.hpp"
 #include "support/refdata.hpp"
 
 #include <doctest/doctest.h>
@@ -47,14 +48,14 @@ TEST_CASE("Cornell box: the light is cut out of the ceiling, with the published 
             light += polygon_area(poly);
             for (std::size_t k = 0; k < 3; ++k)
                 CHECK(band(mesh.data(f).emission, k) ==
-                      doctest::Approx(std::numbers::pi * radiance[k].get<double>()));
+                      test::approx(std::numbers::pi * radiance[k].get<double>()));
         } else if (top) {
             ceiling += polygon_area(poly);
             CHECK(max_abs(mesh.data(f).emission) == 0.0f);
         }
     }
-    CHECK(light == doctest::Approx(published_area("light")).epsilon(1e-12));
-    CHECK(light + ceiling == doctest::Approx(published_area("ceiling")).epsilon(1e-12));
+    CHECK(light == test::approx(published_area("light")).epsilon(1e-12));
+    CHECK(light + ceiling == test::approx(published_area("ceiling")).epsilon(1e-12));
 }
 
 TEST_CASE("Cornell box: walls face into the box, block faces out of their block") {
@@ -82,7 +83,7 @@ TEST_CASE("Cornell box: walls face into the box, block faces out of their block"
     for (const auto& m : s.materials) {
         if (m.name == "light") continue;
         for (std::size_t k = 0; k < 3; ++k)
-            CHECK(band(m.reflectance, k) == doctest::Approx(rgb[m.name][k].get<double>()));
+            CHECK(band(m.reflectance, k) == test::approx(rgb[m.name][k].get<double>()));
     }
 }
 
@@ -109,7 +110,7 @@ TEST_CASE("Cornell box: conforming, open only at the front and under the blocks"
         if (mesh.is_boundary(e)) rim += mesh.calc_edge_length(e);
     for (auto e : sub.edges())
         if (sub.is_boundary(e)) rim_after += sub.calc_edge_length(e);
-    CHECK(rim_after == doctest::Approx(rim).epsilon(1e-12));  // no new gaps inside
+    CHECK(rim_after == test::approx(rim).epsilon(1e-12));  // no new gaps inside
 }
 
 TEST_CASE("empty Cornell box: light-to-wall form factors match the published values") {
@@ -135,12 +136,12 @@ TEST_CASE("empty Cornell box: light-to-wall form factors match the published val
     const auto& values = published()["empty_box_light_form_factors"];
     for (const std::string name : {"floor", "back_wall", "right_wall_green", "left_wall_red"}) {
         CAPTURE(name);
-        CHECK(F.at(name) == doctest::Approx(values.at(name).get<double>()).epsilon(1e-5));
+        CHECK(F.at(name) == test::approx(values.at(name).get<double>()).epsilon(1e-5));
     }
     // The open front: what leaves the light and hits no wall (nor the ceiling it lies in).
     double walls = 0.0;
     for (const auto& [w, v] : F) walls += v;
-    CHECK(1.0 - walls == doctest::Approx(values.at("front_opening").get<double>()).epsilon(1e-5));
+    CHECK(1.0 - walls == test::approx(values.at("front_opening").get<double>()).epsilon(1e-5));
 }
 
 TEST_CASE("built-in scenes by name") {

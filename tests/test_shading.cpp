@@ -4,6 +4,8 @@
 #include <radiosity/mesh/mesh.hpp>
 #include <radiosity/shading/vertex_shading.hpp>
 
+#include "support/approx.hpp"
+
 #include <doctest/doctest.h>
 #include <support/scenes.hpp>
 
@@ -55,16 +57,16 @@ TEST_CASE("smooth shading: area-weighted means at shared vertices, none across c
     // Flat neighbours: the shared vertices get (1 * 1 + 1 * 3) / 2 = 2; the outer ones keep B.
     const ShadedMesh flat = smooth_shading(mesh_with(two_squares(), {1.0f, 3.0f}));
     CHECK(flat.positions.size() == 6);  // one output vertex per mesh vertex
-    CHECK(colour_at(flat, {1, 0, 0}, {0.5, 0.5, 0}).r == doctest::Approx(2.0));
-    CHECK(colour_at(flat, {0, 0, 0}, {0.5, 0.5, 0}).r == doctest::Approx(1.0));
-    CHECK(colour_at(flat, {2, 0, 0}, {1.5, 0.5, 0}).r == doctest::Approx(3.0));
+    CHECK(colour_at(flat, {1, 0, 0}, {0.5, 0.5, 0}).r == test::approx(2.0));
+    CHECK(colour_at(flat, {0, 0, 0}, {0.5, 0.5, 0}).r == test::approx(1.0));
+    CHECK(colour_at(flat, {2, 0, 0}, {1.5, 0.5, 0}).r == test::approx(3.0));
 
     // Unequal areas: a 1 x 1 and a 2 x 1 patch give (1 * 1 + 2 * 4) / 3 = 3 at the shared edge.
     Scene<float> s = two_squares();
     s.positions[4] = {3, 0, 0};
     s.positions[5] = {3, 1, 0};
     const ShadedMesh weighted = smooth_shading(mesh_with(s, {1.0f, 4.0f}));
-    CHECK(colour_at(weighted, {1, 1, 0}, {0.5, 0.5, 0}).r == doctest::Approx(3.0));
+    CHECK(colour_at(weighted, {1, 1, 0}, {0.5, 0.5, 0}).r == test::approx(3.0));
 
     // A 90-degree fold (sharper than the 30-degree crease angle) and a material change both
     // keep the two patches apart: each side keeps its own B.
@@ -72,7 +74,7 @@ TEST_CASE("smooth shading: area-weighted means at shared vertices, none across c
          {smooth_shading(mesh_with(two_squares(true, 90.0), {1.0f, 3.0f})),
           smooth_shading(mesh_with(two_squares(false), {1.0f, 3.0f}))}) {
         CHECK(apart.positions.size() == 8);
-        CHECK(colour_at(apart, {1, 0, 0}, {0.5, 0.5, 0}).r == doctest::Approx(1.0));
+        CHECK(colour_at(apart, {1, 0, 0}, {0.5, 0.5, 0}).r == test::approx(1.0));
     }
     // A gentle 20-degree fold is smoothed over.
     const ShadedMesh gentle = smooth_shading(mesh_with(two_squares(true, 20.0), {1.0f, 3.0f}));
@@ -99,12 +101,12 @@ TEST_CASE("smooth shading of a flat grid with a linear B: area-weighted means, b
     const ShadedMesh m = smooth_shading(mesh_with(s, B));
     CHECK(m.positions.size() == 12);
     // Vertex (1, 2): cells of area 2, 4, 1, 2 with B 3.5, 5, 6.5, 8 -> 49.5 / 9 = 5.5.
-    CHECK(colour_at(m, {1, 2, 0}, {0.5, 1, 0}).r == doctest::Approx(5.5));
+    CHECK(colour_at(m, {1, 2, 0}, {0.5, 1, 0}).r == test::approx(5.5));
     // Vertex (3, 2): cells of area 4, 2, 2, 1 with B 5, 6.5, 8, 9.5 -> 58.5 / 9 = 6.5.
-    CHECK(colour_at(m, {3, 2, 0}, {3.5, 2.5, 0}).g == doctest::Approx(6.5));
+    CHECK(colour_at(m, {3, 2, 0}, {3.5, 2.5, 0}).g == test::approx(6.5));
     // A corner keeps its one cell's B; an edge vertex (1, 0) averages two: (2 * 3.5 + 4 * 5) / 6.
-    CHECK(colour_at(m, {0, 0, 0}, {0.5, 1, 0}).b == doctest::Approx(3.5));
-    CHECK(colour_at(m, {1, 0, 0}, {2, 1, 0}).r == doctest::Approx(4.5));
+    CHECK(colour_at(m, {0, 0, 0}, {0.5, 1, 0}).b == test::approx(3.5));
+    CHECK(colour_at(m, {1, 0, 0}, {2, 1, 0}).r == test::approx(4.5));
 }
 
 TEST_CASE("smooth shading keeps a uniform radiosity uniform") {
@@ -166,7 +168,7 @@ TEST_CASE("PLY with linear float colours: unclamped values, read back by hand") 
     in.read(reinterpret_cast<char*>(v), sizeof v);
     REQUIRE(in);
     std::filesystem::remove(path);
-    CHECK(v[1][3] == doctest::Approx(1.0));  // 2 x 0.5
-    CHECK(v[1][5] == doctest::Approx(0.25));
-    CHECK(v[2][4] == doctest::Approx(8.0));  // not clamped
+    CHECK(v[1][3] == test::approx(1.0));  // 2 x 0.5
+    CHECK(v[1][5] == test::approx(0.25));
+    CHECK(v[2][4] == test::approx(8.0));  // not clamped
 }

@@ -3,6 +3,7 @@
 // uniform emission and reflectance) gives B = E / (1 - rho) to the accuracy of the row sums.
 #include <radiosity/radiosity.hpp>
 
+#include "support/approx.hpp"
 #include "support/scenes.hpp"
 #include "support/threads.hpp"
 
@@ -83,8 +84,8 @@ TEST_CASE("a subdivided furnace gives B = E/(1 - rho) with both form-factor meth
                      hi = 1.0 / (1.0 - 0.5 * check.max_row_sum);
         for (auto f : r.mesh.faces())
             for (std::size_t k = 0; k < 3; ++k) {
-                CHECK(band(r.mesh.data(f).radiosity, k) >= doctest::Approx(lo).epsilon(1e-6));
-                CHECK(band(r.mesh.data(f).radiosity, k) <= doctest::Approx(hi).epsilon(1e-6));
+                CHECK(band(r.mesh.data(f).radiosity, k) >= test::approx(lo).epsilon(1e-6));
+                CHECK(band(r.mesh.data(f).radiosity, k) <= test::approx(hi).epsilon(1e-6));
             }
     }
 }

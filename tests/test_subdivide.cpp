@@ -4,6 +4,8 @@
 #include <radiosity/mesh/mesh.hpp>
 #include <radiosity/mesh/subdivide.hpp>
 
+#include "support/approx.hpp"
+
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -67,7 +69,7 @@ TEST_CASE("a cube of separate faces stays closed: shared vertices, Euler's formu
         const auto V = static_cast<long>(sub.n_vertices()), E = static_cast<long>(sub.n_edges()),
                    F = static_cast<long>(sub.n_faces());
         CHECK(V - E + F == 2);
-        CHECK(total_area(sub) == doctest::Approx(6.0).epsilon(1e-12));
+        CHECK(total_area(sub) == test::approx(6.0).epsilon(1e-12));
         CHECK(longest_edge(sub) <= max_edge + 1e-12);
         const long k = static_cast<long>(std::ceil(1.0 / max_edge - 1e-9));
         CHECK(F == 6 * k * k);
@@ -85,7 +87,7 @@ TEST_CASE("children keep their parent's material, emission, reflectance and norm
         CHECK(d.reflectance == mesh.data(parent).reflectance);
         const Vec3 n = polygon_normal(face_polygon(sub, f));
         const Vec3 np = polygon_normal(face_polygon(mesh, parent));
-        CHECK(glm::dot(n, np) == doctest::Approx(1.0).epsilon(1e-12));
+        CHECK(glm::dot(n, np) == test::approx(1.0).epsilon(1e-12));
     }
 }
 
@@ -101,7 +103,7 @@ TEST_CASE("a long quad becomes a k1 x k2 grid and its neighbour follows") {
     const auto sub = subdivide(build_mesh(s), {1.0});
     CHECK(sub.n_faces() == 8);                    // 4 x 1 each
     CHECK(boundary_edges(sub) == 4 + 4 + 2 + 2);  // the outer rim only: bottom, top, sides
-    CHECK(total_area(sub) == doctest::Approx(8.0));
+    CHECK(total_area(sub) == test::approx(8.0));
 }
 
 TEST_CASE("triangles split into k^2 triangles, conforming with their neighbours") {
@@ -114,7 +116,7 @@ TEST_CASE("triangles split into k^2 triangles, conforming with their neighbours"
     const std::size_t k = 5;  // the diagonal (1.41) needs 5 segments, so all sides get 5
     CHECK(sub.n_faces() == 2 * k * k);
     CHECK(boundary_edges(sub) == 4 * k);
-    CHECK(total_area(sub) == doctest::Approx(1.0).epsilon(1e-12));
+    CHECK(total_area(sub) == test::approx(1.0).epsilon(1e-12));
     CHECK(longest_edge(sub) <= 0.3 + 1e-12);
 }
 
@@ -138,8 +140,8 @@ TEST_CASE("max_area: RRV's rule of 1 -> 4 splits at edge midpoints until small e
     CHECK(sub.n_faces() == 2 * 16);
     CHECK(subdivided_face_count(mesh, o) == sub.n_faces());
     CHECK(boundary_edges(sub) == 4 * 4);  // conforming along the diagonal
-    CHECK(total_area(sub) == doctest::Approx(1.0).epsilon(1e-12));
-    CHECK(largest_area(sub) == doctest::Approx(0.03125).epsilon(1e-12));
+    CHECK(total_area(sub) == test::approx(1.0).epsilon(1e-12));
+    CHECK(largest_area(sub) == test::approx(0.03125).epsilon(1e-12));
     o.max_area = 0.125;  // exactly reached after one round: no second
     CHECK(subdivide(mesh, o).n_faces() == 2 * 4);
     // Both limits: the edge rule asks for 5 segments (the diagonal), more than the area's 4.
@@ -152,7 +154,7 @@ TEST_CASE("max_area: RRV's rule of 1 -> 4 splits at edge midpoints until small e
     o.max_area = 0.3;
     const auto q = subdivide(cube, o);
     CHECK(q.n_faces() == 6 * 4);
-    CHECK(largest_area(q) == doctest::Approx(0.25).epsilon(1e-12));
+    CHECK(largest_area(q) == test::approx(0.25).epsilon(1e-12));
     o.max_area = -1.0;
     CHECK_THROWS_AS(subdivide(cube, o), Error);
     o.max_area = std::nan("");
@@ -172,7 +174,7 @@ TEST_CASE("max_area without conforming: each face split by itself, as RRV does")
     const auto alone = subdivide(mesh, o);
     CHECK(alone.n_faces() == 1 + 16);
     CHECK(subdivided_face_count(mesh, o) == alone.n_faces());
-    CHECK(total_area(alone) == doctest::Approx(3.0).epsilon(1e-12));
+    CHECK(total_area(alone) == test::approx(3.0).epsilon(1e-12));
     CHECK(largest_area(alone) <= 0.6);
     // The shared edge is a T-junction: one edge on the small side, four on the large side, none
     // of them shared; the outer edges are 2 + 8.
@@ -229,12 +231,12 @@ TEST_CASE("an L-shaped hexagon subdivided covers area 3 and leaves its notch emp
     for (auto f : sub.mesh.faces()) {
         const auto p = face_polygon(sub.mesh, f);
         area += polygon_area(p);
-        CHECK(polygon_normal(p).z == doctest::Approx(1.0));
+        CHECK(polygon_normal(p).z == test::approx(1.0));
         const Vec3 c = polygon_centroid(p);
         in_notch += c.x > 1.0 && c.y > 1.0;
         for (const Vec3& v : p) CHECK(!(v.x > 1.0 + 1e-12 && v.y > 1.0 + 1e-12));
     }
-    CHECK(area == doctest::Approx(3.0).epsilon(1e-12));
+    CHECK(area == test::approx(3.0).epsilon(1e-12));
     CHECK(in_notch == 0);
     CHECK(sub.mesh.n_faces() == 300);  // 0.1 x 0.1 squares, the notch's corner on grid lines
     CHECK(sub.report.polygons == 1);
@@ -252,7 +254,7 @@ TEST_CASE("disks of 500 and 10,000 corners mesh to their area with about a squar
         double area = 0.0;
         for (auto f : sub.faces()) area += polygon_area(face_polygon(sub, f));
         CHECK(std::abs(area - own) <= 1e-9 * own);  // the polygon's own area, near pi
-        CHECK(own == doctest::Approx(std::numbers::pi).epsilon(1e-4));
+        CHECK(own == test::approx(std::numbers::pi).epsilon(1e-4));
         // A square of the same area at the same edge: k x k patches.
         const double ratio = double(sub.n_faces()) / double(k * k);
         MESSAGE(n << "-gon: " << sub.n_faces() << " patches, a square of its area " << k * k
@@ -270,9 +272,9 @@ TEST_CASE("a concave quad is cut as a polygon, not as a bilinear grid") {
     for (auto f : sub.faces()) {
         const auto p = face_polygon(sub, f);
         area += polygon_area(p);
-        CHECK(polygon_normal(p).z == doctest::Approx(1.0));
+        CHECK(polygon_normal(p).z == test::approx(1.0));
     }
-    CHECK(area == doctest::Approx(1.3).epsilon(1e-12));
+    CHECK(area == test::approx(1.3).epsilon(1e-12));
     CHECK(boundary_edges(sub) > 0);
 }
 
@@ -291,7 +293,7 @@ TEST_CASE("a slightly non-planar polygon is cut as its projection, with a warnin
     double projected = 0.0;
     for (auto f : sub.mesh.faces())
         projected += 0.5 * glm::dot(newell_vector(face_polygon(sub.mesh, f)), n);
-    CHECK(projected == doctest::Approx(polygon_area(p)).epsilon(1e-9));
+    CHECK(projected == test::approx(polygon_area(p)).epsilon(1e-9));
     // Within the tolerance: no warning.
     s.positions[3].z = 1e-7;
     CHECK(subdivide_with_report(build_mesh(s), {.max_edge = 0.3}).report.non_planar_faces == 0);
@@ -338,8 +340,8 @@ TEST_CASE("lightmap UVs follow a polygon's patches") {
         for (auto v : sub.fv_range(f)) {
             const auto& p = sub.point(v);
             const glm::vec2 t = corner_uv(sub, f, v), want = uv_at(p[0], p[1]);
-            CHECK(t.x == doctest::Approx(want.x).epsilon(1e-5));
-            CHECK(t.y == doctest::Approx(want.y).epsilon(1e-5));
+            CHECK(t.x == test::approx(want.x).epsilon(1e-5));
+            CHECK(t.y == test::approx(want.y).epsilon(1e-5));
         }
 }
 
@@ -363,7 +365,7 @@ TEST_CASE("a polygon beside a quad: each takes the other's points along their sh
         const bool on_shared = a[1] == 1.0 && b[1] == 1.0 && a[0] > 0.0 && a[0] < 4.0;
         CHECK(!on_shared);
     }
-    CHECK(total_area(sub.mesh) == doctest::Approx(4.5 + 4.0).epsilon(1e-12));
+    CHECK(total_area(sub.mesh) == test::approx(4.5 + 4.0).epsilon(1e-12));
 }
 
 TEST_CASE("polygons too finely cut are refused before any work") {

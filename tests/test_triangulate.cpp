@@ -2,6 +2,7 @@
 // and its convex pieces against their definitions: triangles that cover the polygon exactly,
 // every boundary edge an edge, every free edge locally Delaunay; convex pieces, at most 2r + 1
 // of them for r reflex corners (Hertel & Mehlhorn's bound); crossing boundaries refused.
+#include "support/approx.hpp"
 #include "support/polygons.hpp"
 
 #include <radiosity/geometry/convex_partition.hpp>
@@ -72,7 +73,7 @@ void check_triangulation(const Triangulation& t, const std::vector<Vec2>& p) {
         area += triangle_area2(t, k);
         for (int j = 0; j < 3; ++j) ++edge[{v[j], v[(j + 1) % 3]}];
     }
-    CHECK(area == doctest::Approx(area2(p)).epsilon(1e-12));
+    CHECK(area == test::approx(area2(p)).epsilon(1e-12));
     for (std::uint32_t k = 0; k < p.size(); ++k)
         CHECK(edge[{k, static_cast<std::uint32_t>((k + 1) % p.size())}] == 1);
     for (std::size_t k = 0; k < t.triangles.size(); ++k)
@@ -176,11 +177,11 @@ TEST_CASE("holes and cuts: holes left out, cuts become edges, crossing cuts spli
     const Triangulation t = triangulate(in, "test");
     double area = 0.0;
     for (std::size_t k = 0; k < t.triangles.size(); ++k) area += 0.5 * triangle_area2(t, k);
-    CHECK(area == doctest::Approx(16.0 - 4.0).epsilon(1e-14));
+    CHECK(area == test::approx(16.0 - 4.0).epsilon(1e-14));
     // Cut 8 - 11 (x = 0.5) crosses cut 12 - 13 (y = 2): one new point, where they cross.
     REQUIRE(t.points.size() == in.points.size() + 1);
-    CHECK(t.points.back().x == doctest::Approx(0.5));
-    CHECK(t.points.back().y == doctest::Approx(2.0));
+    CHECK(t.points.back().x == test::approx(0.5));
+    CHECK(t.points.back().y == test::approx(2.0));
     const auto x = static_cast<std::uint32_t>(t.points.size() - 1);
     std::set<std::pair<std::uint32_t, std::uint32_t>> cut;
     for (std::size_t k = 0; k < t.triangles.size(); ++k)
@@ -242,7 +243,7 @@ TEST_CASE("Hertel-Mehlhorn pieces: convex, covering, at most 2r + 1 for r reflex
             }
             for (std::uint32_t tri : c.triangles[k]) ++used[tri];
         }
-        CHECK(area == doctest::Approx(area2(p)).epsilon(1e-12));
+        CHECK(area == test::approx(area2(p)).epsilon(1e-12));
         for (int u : used) CHECK(u == 1);
         CHECK(c.pieces.size() <= static_cast<std::size_t>(2 * reflex_corners(p) + 1));
         if (trial % 3 == 0) CHECK(c.pieces.size() == 1);

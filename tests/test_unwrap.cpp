@@ -8,6 +8,8 @@
 #include <radiosity/lightmap/charts.hpp>
 #include <radiosity/mesh/mesh.hpp>
 
+#include "support/approx.hpp"
+
 #include <doctest/doctest.h>
 #include <support/scenes.hpp>
 
@@ -320,9 +322,9 @@ TEST_CASE("charts: a tilted rectangle is turned to its bounding rectangle, long 
     const auto mesh = build_mesh(soup({{o, o + 2.0 * e1, o + 2.0 * e1 + e2, o + e2}}));
     const auto charts = make_charts(mesh);
     REQUIRE(charts.size() == 1);
-    CHECK(charts[0].extent.x == doctest::Approx(2.0).epsilon(1e-12));
-    CHECK(charts[0].extent.y == doctest::Approx(1.0).epsilon(1e-12));
-    CHECK(glm::dot(charts[0].normal, n) == doctest::Approx(1.0).epsilon(1e-12));
+    CHECK(charts[0].extent.x == test::approx(2.0).epsilon(1e-12));
+    CHECK(charts[0].extent.y == test::approx(1.0).epsilon(1e-12));
+    CHECK(glm::dot(charts[0].normal, n) == test::approx(1.0).epsilon(1e-12));
     for (const Vec2& p : charts[0].corner) {
         CHECK(p.x >= -1e-12);
         CHECK(p.y >= -1e-12);
@@ -363,7 +365,7 @@ TEST_CASE("unwrap: a flat wall of separate quads is one chart, flattened without
     const auto stats = check_atlas(mesh, atlas, opt);
     CHECK(stats.similar_faces == 15);
     // One 3.5 x 1.2 chart: the density puts its long side across the atlas, less the gutters.
-    CHECK(atlas.texel_density == doctest::Approx((512 - 4) / 3.5).epsilon(1e-6));
+    CHECK(atlas.texel_density == test::approx((512 - 4) / 3.5).epsilon(1e-6));
 }
 
 TEST_CASE("unwrap: a cube gives six charts, with or without shared vertices") {

@@ -12,6 +12,8 @@
 #include <radiosity/shading/vertex_shading.hpp>
 #include <radiosity/solve.hpp>
 
+#include "support/approx.hpp"
+
 #include <doctest/doctest.h>
 
 #define STB_IMAGE_STATIC
@@ -453,10 +455,10 @@ TEST_CASE("a pick prints F_ii = 0, the row sum and the reciprocity error of the 
         scale = std::max(scale, a);
     }
     CHECK(std::stod(m[1]) == 0.0);  // a flat patch does not see itself
-    CHECK(std::stod(m[2]) == doctest::Approx(sum).epsilon(1e-5));
+    CHECK(std::stod(m[2]) == test::approx(sum).epsilon(1e-5));
     CHECK(sum > 0.3);  // the wall sees most of the box; the open front takes the rest
     CHECK(sum < 1.0);
-    CHECK(std::stod(m[3]) == doctest::Approx(worst / scale).epsilon(1e-5));
+    CHECK(std::stod(m[3]) == test::approx(worst / scale).epsilon(1e-5));
 }
 
 TEST_CASE("a pick where no patch is seen says so") {
