@@ -9,7 +9,10 @@
 //                            --obj FILE), against the same box given as its few large faces:
 //                            time, peak memory, per-material and per-surface means
 //                            (--link-error E sets both), and the few faces solved once more at
-//                            --reference-link-error (default 3e-7), converged, as the reference
+//                            --reference-link-error (default 3e-7), converged, as the reference;
+//                            --seed N and --cluster-samples N set the tessellated box's (and
+//                            the few faces' at the same link error) rays, to see how much of
+//                            a surface's difference is the sampling
 //   bench_hierarchy seeds [N]  room3's per-material means at seeds 1..N (default 8) of the
 //                            links' rays, each against the dense hemicube solve: how far the
 //                            sampling alone moves what the accuracy table quotes at seed 1
@@ -28,6 +31,7 @@
 #include <array>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -207,7 +211,8 @@ void write_obj(const radiosity::Scene<Rgb>& s, const std::string& path) {
     }
 }
 
-int million(const std::string& obj_path, double edge, double link_error, double reference_error) {
+int million(const std::string& obj_path, double edge, double link_error, double reference_error,
+            std::uint64_t seed, int cluster_samples) {
     std::vector<std::uint32_t> origin;  // the box's face each triangle was cut from
     const radiosity::Scene<Rgb> big = bench::tessellated_box(edge, &origin);
     const radiosity::Scene<Rgb> box = radiosity::cornell_box<Rgb>(true);
@@ -225,6 +230,8 @@ int million(const std::string& obj_path, double edge, double link_error, double 
     radiosity::SolveOptions o{.solver = radiosity::SolverKind::hierarchical};
     o.subdivision.cut_intersections = false;  // the box's faces only touch
     if (link_error > 0.0) o.hierarchical.link_error = link_error;
+    o.hierarchical.seed = seed;
+    if (cluster_samples > 0) o.hierarchical.cluster_samples = cluster_samples;
     const Row r = in_child([&] { return solve_row(radiosity::build_mesh(big), o, &big_surface); });
     const Row few = in_child([&] { return solve_row(radiosity::build_mesh(box), o, &surface); });
     // The few faces solved at the same link error have an error of their own (up to 2% on a
@@ -273,18 +280,25 @@ int main(int argc, char** argv) {
     double edge = 2.85;       // mm: about 1.0 million triangles
     double link_error = 0.0;  // 0: the default
     double reference_error = 3e-7;
+    std::uint64_t seed = 1;
+    int cluster_samples = 0;  // 0: the default
     for (int i = 2; i + 1 < argc; i += 2) {
         if (std::strcmp(argv[i], "--obj") == 0) obj = argv[i + 1];
         if (std::strcmp(argv[i], "--edge") == 0) edge = std::atof(argv[i + 1]);
         if (std::strcmp(argv[i], "--link-error") == 0) link_error = std::atof(argv[i + 1]);
         if (std::strcmp(argv[i], "--reference-link-error") == 0)
             reference_error = std::atof(argv[i + 1]);
+        if (std::strcmp(argv[i], "--seed") == 0) seed = std::strtoull(argv[i + 1], nullptr, 10);
+        if (std::strcmp(argv[i], "--cluster-samples") == 0)
+            cluster_samples = std::atoi(argv[i + 1]);
     }
     if (what == "ladder") return ladder();
-    if (what == "million") return million(obj, edge, link_error, reference_error);
+    if (what == "million")
+        return million(obj, edge, link_error, reference_error, seed, cluster_samples);
     if (what == "seeds") return seeds(argc > 2 ? std::max(1, std::atoi(argv[2])) : 8);
     std::fprintf(stderr,
                  "usage: bench_hierarchy ladder | million [--obj FILE] [--edge MM] "
-                 "[--link-error E] [--reference-link-error E] | seeds [N]\n");
+                 "[--link-error E] [--reference-link-error E] [--seed N] [--cluster-samples N] "
+                 "| seeds [N]\n");
     return 2;
 }

@@ -70,7 +70,10 @@ struct Hierarchy {
     std::vector<double> area;                 ///< A: element area; cluster: sum of its roots'
     std::vector<double> radius;               ///< bounding-sphere radius about centre
     std::vector<Vec3> centre;                 ///< element centroid; cluster box centre
-    std::vector<Vec3> normal;                 ///< element unit normal; zero for clusters
+    /// Element: its unit normal. Cluster: the area-weighted sum of its roots' normals, N =
+    /// sum A n, whose length over the area, |N| / A, is 1 where the faces are coplanar and about
+    /// 0 where they face every way (the oracle's oriented estimate, links.hpp).
+    std::vector<Vec3> normal;
     /// Cluster: the orientation classes (facing_class) of its roots, bit c for class c; a
     /// root: its own class's bit; 0 for split elements.
     std::vector<std::uint8_t> classes;
@@ -244,11 +247,18 @@ inline Hierarchy build_hierarchy(PatchTable roots, std::vector<std::uint32_t> su
             h.set_element(p.node, h.roots.polygon(h.order[p.b]));
             if (h.has_uv) h.uv[p.node] = root_uvs[h.order[p.b]];
         }
-    for (std::size_t i = h.size(); i-- > 0;)  // children (larger ids) before their parents
-        h.classes[i] =
-            h.is_cluster(NodeId(i))
-                ? std::uint8_t(h.classes[h.first_child[i]] | h.classes[h.first_child[i] + 1])
-                : std::uint8_t(1u << facing_class(h.normal[i]));
+    for (std::size_t i = h.size(); i-- > 0;) {  // children (larger ids) before their parents
+        if (!h.is_cluster(NodeId(i))) {
+            h.classes[i] = std::uint8_t(1u << facing_class(h.normal[i]));
+            continue;
+        }
+        const NodeId a = h.first_child[i], b = a + 1;
+        h.classes[i] = std::uint8_t(h.classes[a] | h.classes[b]);
+        const auto weighted = [&](NodeId c) {  // sum A n below c
+            return h.is_cluster(c) ? h.normal[c] : h.area[c] * h.normal[c];
+        };
+        h.normal[i] = weighted(a) + weighted(b);
+    }
     return h;
 }
 

@@ -80,7 +80,9 @@ enum class Verdict : std::uint8_t { keep, receiver, source, self };
 
 /// BF refinement's oracle (Hanrahan et al. 1991), weighted by how much the transfer can vary
 /// over the pair: rho_r B_s T A_r (radius_r + radius_s) / d, with T the transfer without
-/// visibility (its bound where the estimate fails); above the threshold the larger splittable
+/// visibility (a cluster's by the oriented model; its bound where the estimate fails), and
+/// without the weight (all of rho_r B_s T A_r) for a link partly visible or with a mixed
+/// cluster at an end; above the threshold the larger splittable
 /// node (by bounding radius) is split, or the receiver of a partly visible link. A cluster's
 /// self-link is always split.
 inline Verdict judge(const Hierarchy& h, const Link& l, const OracleInputs& in,
@@ -90,10 +92,10 @@ inline Verdict judge(const Hierarchy& h, const Link& l, const OracleInputs& in,
     // The oracle must not weigh by the link's own random estimates (its sampled transfer, its
     // visibility): links whose rays happened to say "little" would then stay while the others
     // are refined and drawn again, a selection that biases the kept links low. Elements: the
-    // analytic coefficient; a cluster: the isotropic estimate, or its bound where that fails.
+    // analytic coefficient; a cluster: the oriented estimate, or its bound where that fails.
     double T = l.coefficient;
     if (h.is_cluster(r) || h.is_cluster(src)) {  // O(1) for a cluster
-        const Transfer t = transfer(h, r, src);
+        const Transfer t = transfer(h, r, src, Accuracy::full, ClusterModel::oriented);
         T = t.unreliable ? t.bound : t.coefficient;
     }
     // How much the transfer varies over the pair: the share of the distance that the two
@@ -109,7 +111,13 @@ inline Verdict judge(const Hierarchy& h, const Link& l, const OracleInputs& in,
     // Only "partly": the rays' verdict is used as a flag, never as a weight, so the kept links
     // are not chosen by how little their rays saw.
     const bool partly_visible = l.visibility > 0.0f && l.visibility < 1.0f;
-    const double spread = partly_visible || d <= reach ? 1.0 : reach / d;
+    // A link with a mixed cluster at an end divides its light among the cluster's orientation
+    // classes by the shares its few samples saw (ClassShares): a class's share is off by a good
+    // part of what the link carries however far apart the nodes are, so it too is judged on
+    // all it carries. (The Cornell box as 340,000 triangles, seed 1: its worst surface went
+    // from 9.3% to 4.4% off the converged few faces, for 5% more links; room3: 5% more links.)
+    const bool mixed_end = h.mixed(r) || h.mixed(src);
+    const double spread = partly_visible || mixed_end || d <= reach ? 1.0 : reach / d;
     const double shadow = partly_visible ? s.shadow_factor : 1.0;
     const double power = in.rho_max[r] * in.B_max[src] * T * h.area[r] * spread * shadow;
     if (!(power > s.threshold)) return Verdict::keep;
