@@ -3,7 +3,7 @@
 /// scenes: no n x n matrix, links between elements and clusters at whatever level is accurate
 /// enough (Hanrahan, Salzman & Aupperle 1991), starting from the self-link of the cluster of the
 /// whole scene (Smits, Arvo & Greenberg 1994; Sillion 1995). Multigridding: a few passes at
-/// coarser thresholds (4x apart), each refined against the B of the pass before, then refine ->
+/// coarser thresholds (16x apart), each refined against the B of the pass before, then refine ->
 /// gather -> push-pull at the final threshold until no link splits and B has converged.
 /// The leaves are the result's patches (leaves.hpp). Memory: O(elements + links).
 /// The loop itself, spread over ranks (HierarchicalOptions::communicator) and checkpointed

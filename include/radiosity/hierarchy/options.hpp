@@ -38,12 +38,16 @@ struct HierarchicalOptions {
     /// links that the next pass refines again).
     int coarse_passes = 1;
     /// How much coarser each multigrid pass's threshold is than the next one's. The coarse pass
-    /// has to show the final one where the light goes. Room3 (seeds 1 to 5, against the dense
-    /// solve) keeps its per-material means at 4, 8, 16 and 32 (medians within 0.3%), and at 16
-    /// refines about 0.1 s less. The million-triangle box (bench_hierarchy million) does not: its
-    /// darkest face, against the converged reference, is 9.9% off at 4, 12.8% at 8 and 25.9% at
-    /// 16. Without a coarse pass every room3 mean comes out 1.3 to 3.6% bright.
-    double coarse_factor = 4.0;
+    /// has to show the final one where the light goes. With the oracle's oriented clusters, 16
+    /// against 4: room3 11% slower than under the isotropic oracle instead of 13% (alternating
+    /// runs against commit 82a4615, 2 cores), with the same per-material means over seeds 1 to
+    /// 8 (medians within 0.2%); the million-triangle box
+    /// (bench_hierarchy million) at link error 3e-6 within 0.43% of its few faces on every
+    /// surface instead of 0.67% (0.81% of their converged solution instead of 1.15%), at 1e-4
+    /// 7.9% instead of 6.2% (its sampling alone moves that by more: at 340,000 triangles the
+    /// worst surface was 4.4% and 8.3% off at seeds 1 and 2). Under the isotropic oracle, 16
+    /// had left its darkest face 26% off.
+    double coarse_factor = 16.0;
     /// Refine -> solve rounds at the final threshold, until no link splits (a second round
     /// adds a quarter more links for a change in B far below the link error).
     int max_final_passes = 1;
