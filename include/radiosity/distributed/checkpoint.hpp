@@ -88,8 +88,9 @@ class CheckpointWriter {
         }
     }
 
-    /// "RADCKPT" and the format's version.
-    static constexpr std::array<char, 8> magic{'R', 'A', 'D', 'C', 'K', 'P', 'T', 3};
+    /// "RADCKPT" and the format's version: 4 since the refinement oracle's oriented clusters, as
+    /// a solve resumed under another oracle would not give the bits of one never stopped.
+    static constexpr std::array<char, 8> magic{'R', 'A', 'D', 'C', 'K', 'P', 'T', 4};
 
   private:
     void put(const void* p, std::size_t n) {

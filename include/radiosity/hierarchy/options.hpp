@@ -38,15 +38,15 @@ struct HierarchicalOptions {
     /// links that the next pass refines again).
     int coarse_passes = 1;
     /// How much coarser each multigrid pass's threshold is than the next one's. The coarse pass
-    /// has to show the final one where the light goes. With the oracle's oriented clusters, 16
-    /// against 4: room3 11% slower than under the isotropic oracle instead of 13% (alternating
-    /// runs against commit 82a4615, 2 cores), with the same per-material means over seeds 1 to
-    /// 8 (medians within 0.2%); the million-triangle box
-    /// (bench_hierarchy million) at link error 3e-6 within 0.43% of its few faces on every
-    /// surface instead of 0.67% (0.81% of their converged solution instead of 1.15%), at 1e-4
-    /// 7.9% instead of 6.2% (its sampling alone moves that by more: at 340,000 triangles the
-    /// worst surface was 4.4% and 8.3% off at seeds 1 and 2). Under the isotropic oracle, 16
-    /// had left its darkest face 26% off.
+    /// has to show the final one where the light goes; without it every room3 mean comes out 1.3
+    /// to 3.6% bright. With the oracle's oriented clusters, 16 against 4: room3 11% slower than
+    /// under the isotropic oracle instead of 13% (alternating runs against commit 82a4615, 2
+    /// cores), with the same per-material means over seeds 1 to 8 (medians within 0.2%); the
+    /// million-triangle box (bench_hierarchy million) at link error 3e-6 within 0.43% of its
+    /// few faces on every surface instead of 0.67% (0.81% of their converged solution instead
+    /// of 1.15%), in 2.4 GB instead of 2.9 GB; at 1e-4 7.9% instead of 6.2% (its sampling alone
+    /// moves that by more: at 340,000 triangles the worst surface was 4.4% and 8.3% off at
+    /// seeds 1 and 2). Under the isotropic oracle, 16 had left its darkest face 26% off.
     double coarse_factor = 16.0;
     /// Refine -> solve rounds at the final threshold, until no link splits (a second round
     /// adds a quarter more links for a change in B far below the link error).
