@@ -365,6 +365,22 @@ double parallel_rectangles(double a, double b, double c) {
             Y * std::sqrt(x) * std::atan(Y / std::sqrt(x)) - X * std::atan(X) - Y * std::atan(Y));
 }
 
+/// The parallelogram o + [0, 1] u + [0, 1] v cut into cuts x cuts cells of two triangles each,
+/// facing u x v, of the given material, added to s.
+void add_grid(Scene<Rgb>& s, Vec3 o, Vec3 u, Vec3 v, std::uint32_t material, int cuts) {
+    const auto b = static_cast<std::uint32_t>(s.positions.size());
+    for (int j = 0; j <= cuts; ++j)
+        for (int i = 0; i <= cuts; ++i)
+            s.positions.push_back(o + (double(i) / cuts) * u + (double(j) / cuts) * v);
+    const auto id = [&](int i, int j) { return b + std::uint32_t(j * (cuts + 1) + i); };
+    for (int j = 0; j < cuts; ++j)
+        for (int i = 0; i < cuts; ++i) {
+            s.faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+            s.faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+            s.face_material.insert(s.face_material.end(), 2, material);
+        }
+}
+
 /// The box [-1, 1]^2 x [0, 2], faces out, each face cut into n x n squares of two triangles,
 /// face f of material f (0 bottom, 1 top, 2-5 the sides), and the square [-1, 1]^2 at z = 5
 /// facing down, of material 6: the top and the square are equal parallel squares 3 apart, and
@@ -373,27 +389,14 @@ double parallel_rectangles(double a, double b, double c) {
 Scene<Rgb> box_under_square(int n, const Material<Rgb>& box_top, const Material<Rgb>& box_rest,
                             const Material<Rgb>& square) {
     Scene<Rgb> s;
-    const auto quad = [&](Vec3 o, Vec3 u, Vec3 v, std::uint32_t material, int cuts) {
-        const auto b = static_cast<std::uint32_t>(s.positions.size());
-        for (int j = 0; j <= cuts; ++j)
-            for (int i = 0; i <= cuts; ++i)
-                s.positions.push_back(o + (double(i) / cuts) * u + (double(j) / cuts) * v);
-        const auto id = [&](int i, int j) { return b + std::uint32_t(j * (cuts + 1) + i); };
-        for (int j = 0; j < cuts; ++j)
-            for (int i = 0; i < cuts; ++i) {
-                s.faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-                s.faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-                s.face_material.insert(s.face_material.end(), 2, material);
-            }
-    };
     const Vec3 x(2, 0, 0), y(0, 2, 0), z(0, 0, 2);  // u x v is each face's outward normal
-    quad(Vec3(-1, -1, 0), y, x, 0, n);              // bottom (-z)
-    quad(Vec3(-1, -1, 2), x, y, 1, n);              // top (+z)
-    quad(Vec3(-1, -1, 0), x, z, 2, n);              // -y
-    quad(Vec3(-1, 1, 0), z, x, 3, n);               // +y
-    quad(Vec3(-1, -1, 0), z, y, 4, n);              // -x
-    quad(Vec3(1, -1, 0), y, z, 5, n);               // +x
-    quad(Vec3(-1, -1, 5), y, x, 6, 1);              // the square, facing down
+    add_grid(s, Vec3(-1, -1, 0), y, x, 0, n);       // bottom (-z)
+    add_grid(s, Vec3(-1, -1, 2), x, y, 1, n);       // top (+z)
+    add_grid(s, Vec3(-1, -1, 0), x, z, 2, n);       // -y
+    add_grid(s, Vec3(-1, 1, 0), z, x, 3, n);        // +y
+    add_grid(s, Vec3(-1, -1, 0), z, y, 4, n);       // -x
+    add_grid(s, Vec3(1, -1, 0), y, z, 5, n);        // +x
+    add_grid(s, Vec3(-1, -1, 5), y, x, 6, 1);       // the square, facing down
     s.materials = {box_rest, box_top, box_rest, box_rest, box_rest, box_rest, square};
     return s;
 }
@@ -432,37 +435,15 @@ TEST_CASE(
     }
 }
 
-namespace {
-
-/// The n x n grid of cells of the square [x0, x0 + w] x [y0, y0 + w] at height z, each cell two
-/// triangles facing up (+z) or down, of material m, added to s.
-void add_grid(Scene<Rgb>& s, double x0, double y0, double w, double z, bool up, std::uint32_t m,
-              int n) {
-    for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) {
-            const double a = x0 + w * i / n, b = y0 + w * j / n;
-            const double c = x0 + w * (i + 1) / n, d = y0 + w * (j + 1) / n;
-            const auto v = static_cast<std::uint32_t>(s.positions.size());
-            s.positions.insert(s.positions.end(),
-                               {Vec3(a, b, z), Vec3(c, b, z), Vec3(c, d, z), Vec3(a, d, z)});
-            if (up)
-                s.faces.insert(s.faces.end(), {{v, v + 1, v + 2}, {v, v + 2, v + 3}});
-            else
-                s.faces.insert(s.faces.end(), {{v, v + 2, v + 1}, {v, v + 3, v + 2}});
-            s.face_material.insert(s.face_material.end(), 2, m);
-        }
-}
-
-}  // namespace
-
 TEST_CASE(
     "the oracle's oriented cluster: a flat cluster is an element to it, a closed box is "
     "isotropic") {
     // Two unit squares 20 apart, facing each other, each cut into 32 triangles: the top
     // cluster's two children are the two squares (split along the longest axis, z).
     Scene<Rgb> s;
-    add_grid(s, 0.0, 0.0, 1.0, 0.0, true, 0, 4);
-    add_grid(s, 0.0, 0.0, 1.0, 20.0, false, 0, 4);
+    const Vec3 x(1, 0, 0), y(0, 1, 0);
+    add_grid(s, Vec3(0, 0, 0), x, y, 0, 4);   // facing +z
+    add_grid(s, Vec3(0, 0, 20), y, x, 0, 4);  // facing -z
     s.materials = {{Rgb(0.0f), Rgb(0.5f), "grey"}};
     const Hierarchy h = detail::hierarchy_of(build_mesh(s));
     const NodeId a = h.first_child[0], b = a + 1;
@@ -479,14 +460,14 @@ TEST_CASE(
     CHECK(isotropic == test::approx(F / 16.0).epsilon(0.005));
     // Seen from behind, a flat cluster takes and sends nothing.
     const Vec3 away = glm::normalize(h.centre[a] - h.centre[b]);
-    CHECK(detail::cluster_facing(h, a, away) < 1e-12);
+    CHECK(detail::cluster_facing(h, a, away).toward < 1e-12);
     // A closed box's faces face every way alike: N = 0, the isotropic cluster's 1/4 every way.
     Scene<Rgb> box;
     add_box(box, Vec3(0.0), Vec3(1.0, 2.0, 3.0));
     box.materials = {{Rgb(0.0f), Rgb(0.5f), "grey"}};
     const Hierarchy hb = detail::hierarchy_of(build_mesh(box));
     for (const Vec3& u : {Vec3(1, 0, 0), Vec3(0, -1, 0), glm::normalize(Vec3(1, 2, 3))})
-        CHECK(detail::cluster_facing(hb, 0, u) == test::approx(0.25).epsilon(1e-12));
+        CHECK(detail::cluster_facing(hb, 0, u).toward == test::approx(0.25).epsilon(1e-12));
 }
 
 TEST_CASE("a floor takes its light from a lamp in a tessellated ceiling: the exact irradiance") {
@@ -503,8 +484,9 @@ TEST_CASE("a floor takes its light from a lamp in a tessellated ceiling: the exa
     Scene<Rgb> s;
     for (int j = 0; j < 3; ++j)
         for (int i = 0; i < 3; ++i) {
-            add_grid(s, i / 3.0, j / 3.0, 1.0 / 3.0, 0.0, true, 0, 8);
-            add_grid(s, i / 3.0, j / 3.0, 1.0 / 3.0, 0.5, false, i == 1 && j == 1 ? 2 : 1, 8);
+            const Vec3 x(1 / 3.0, 0, 0), y(0, 1 / 3.0, 0);
+            add_grid(s, Vec3(i / 3.0, j / 3.0, 0.0), x, y, 0, 8);  // floor, facing up
+            add_grid(s, Vec3(i / 3.0, j / 3.0, 0.5), y, x, i == 1 && j == 1 ? 2 : 1, 8);
         }
     s.materials = {{Rgb(0.0f), Rgb(0.5f), "floor"},
                    {Rgb(0.0f), Rgb(0.0f), "ceiling"},

@@ -216,14 +216,16 @@ inline Facing facing(const Hierarchy& h, NodeId n, const Vec3& u, double d, doub
 /// has it: f max(N^ . u, 0) + (1 - f) / 4, with N = sum A n over its faces (Hierarchy::normal)
 /// and f = |N| / A its flatness. Exact for coplanar faces (f = 1: a piece of a wall is an
 /// element to the oracle), the isotropic cluster's 1/4 for faces that face every way alike
-/// (f = 0), and in between the flat part's projection plus the rest's mean. `largest`: the
-/// most it can be over all u, f + (1 - f) / 4.
-inline double cluster_facing(const Hierarchy& h, NodeId n, const Vec3& u, bool largest = false) {
+/// (f = 0), and in between the flat part's projection plus the rest's mean. Also the most it
+/// can be toward any u, f + (1 - f) / 4 (the bound's).
+struct ClusterFacing {
+    double toward = 0.25, largest = 0.25;
+};
+inline ClusterFacing cluster_facing(const Hierarchy& h, NodeId n, const Vec3& u) {
     const double len = glm::length(h.normal[n]);
     const double f = h.area[n] > 0.0 ? std::min(len / h.area[n], 1.0) : 0.0;
-    if (largest) return f + 0.25 * (1.0 - f);
     const double c = len > 0.0 ? std::max(glm::dot(h.normal[n], u) / len, 0.0) : 0.0;
-    return f * c + 0.25 * (1.0 - f);
+    return {f * c + 0.25 * (1.0 - f), f + 0.25 * (1.0 - f)};
 }
 
 }  // namespace detail
@@ -264,19 +266,22 @@ inline Transfer transfer(const Hierarchy& h, NodeId r, NodeId s, Accuracy accura
     const bool behind_r = !h.is_cluster(r) && glm::dot(h.normal[r], rs) + h.radius[s] <= 0.0;
     const bool behind_s = !h.is_cluster(s) && -glm::dot(h.normal[s], rs) + h.radius[r] <= 0.0;
     if (behind_r || behind_s) return {};  // one lies wholly behind the other
-    const bool oriented = model == ClusterModel::oriented;
-    // A cluster's projected area toward u over its area (facing `largest`: toward any u).
-    const auto cluster = [&](NodeId n, const Vec3& toward, bool largest) {
-        return oriented ? detail::cluster_facing(h, n, toward, largest) : 0.25;
+    // A cluster's projected area over its area, toward the other node and at most; isotropic,
+    // a quarter both ways (ClusterFacing's defaults).
+    const auto cluster = [&](NodeId n, const Vec3& toward) {
+        return model == ClusterModel::oriented ? detail::cluster_facing(h, n, toward)
+                                               : detail::ClusterFacing{};
     };
     const double pi = std::numbers::pi;
-    const double gs = h.is_cluster(s) ? cluster(s, -u, false) / pi : fs.cos / pi;
-    const double gr = h.is_cluster(r) ? cluster(r, u, false) : fr.cos;
+    const detail::ClusterFacing cs = h.is_cluster(s) ? cluster(s, -u) : detail::ClusterFacing{};
+    const detail::ClusterFacing cr = h.is_cluster(r) ? cluster(r, u) : detail::ClusterFacing{};
+    const double gs = h.is_cluster(s) ? cs.toward / pi : fs.cos / pi;
+    const double gr = h.is_cluster(r) ? cr.toward : fr.cos;
     const double T = As * gs * gr / (d * d);
     // Bound: both facing head-on at the nearest the spheres allow.
     const double gap = std::max(d - reach, 1e-3 * d);
-    const double gs_max = h.is_cluster(s) ? cluster(s, -u, true) / pi : 1.0 / pi;
-    const double gr_max = h.is_cluster(r) ? cluster(r, u, true) : 1.0;
+    const double gs_max = h.is_cluster(s) ? cs.largest / pi : 1.0 / pi;
+    const double gr_max = h.is_cluster(r) ? cr.largest : 1.0;
     const bool unreliable = fr.cut || fs.cut || d < 2.0 * reach;
     const double bound = unreliable ? std::min(1.0, As * gs_max * gr_max / (gap * gap)) : T;
     return {T, std::max(bound, T), unreliable};

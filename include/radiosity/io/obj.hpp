@@ -100,14 +100,14 @@ inline void blank_skin_weights(std::string& text) {
 
 /// The line and the true number of corners of every face ('f') statement of an OBJ text, in
 /// order (tinyobjloader makes one face of each, or warns), and the line of every vertex ('v').
-struct ObjFaceStatements {
+struct ObjStatements {
     std::vector<std::size_t> line, corners;
     std::vector<std::size_t> vertex_line;
 };
 
 /// Scans an OBJ text: checks every vertex's coordinates and finds the face statements. One pass.
-inline ObjFaceStatements scan_obj(const std::string& text, const std::string& path) {
-    ObjFaceStatements faces;
+inline ObjStatements scan_obj(const std::string& text, const std::string& path) {
+    ObjStatements faces;
     for_each_obj_line(text, [&](std::size_t n, const char* s) {
         if (is_obj_statement(s, "v")) {
             check_obj_numbers(s + 2, path + ":" + std::to_string(n), "vertex coordinate");
@@ -174,7 +174,7 @@ struct ObjParse {
 /// Adds the faces of tinyobjloader's shapes to a scene, with the corner counts of the scan, every
 /// index checked. Lightmap UVs are kept only if every face has them, all in [0, 1].
 template <SpectrumType S>
-void add_obj_faces(const ObjParse& obj, const ObjFaceStatements& statements, Scene<S>& scene) {
+void add_obj_faces(const ObjParse& obj, const ObjStatements& statements, Scene<S>& scene) {
     const std::string& path = scene.source;
     const std::size_t nv = scene.positions.size(), nt = obj.attrib.texcoords.size() / 2;
     const auto default_material = static_cast<std::uint32_t>(scene.materials.size());
@@ -249,7 +249,7 @@ Scene<S> read_obj(const std::string& path) {
         fs::is_regular_file(path, ec) ? detail::slurp_file(path) : std::nullopt;
     if (!text) throw Error(path + ": no such file");
     detail::blank_skin_weights(*text);
-    const detail::ObjFaceStatements statements = detail::scan_obj(*text, path);
+    const detail::ObjStatements statements = detail::scan_obj(*text, path);
     detail::ObjParse obj;
     std::string warn, err;
     std::istringstream in(*text);
