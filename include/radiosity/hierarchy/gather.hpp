@@ -178,13 +178,15 @@ std::array<double, K> sent(const Link& l, const ClassShares* x, const NodeValues
 
 /// Gather: H_r = sum over r's links of T_rs V_rs B_s, receivers in parallel, each summing its
 /// links in their sorted order (the same sums for any thread count); a mixed cluster receiver
-/// also sums each link's light by the classes that took it (ClassShares::facing) into Hc. A
+/// also sums each link's light by the classes that took it (ClassShares::facing) into Hc, at
+/// most S_d / A_r per unit radiosity from one link (the faces' irradiance at most the source's
+/// radiosity; the rest of the link's light goes to every face alike). A
 /// link's shares are the next of its group's entries if that names its source. Writes the
 /// receivers' H and Hc only: the others' must be 0 (NodeValues::clear_irradiance, due when the
 /// links change; a fill per sweep would write 300 MB at a million faces). Cost: O(links).
 template <std::size_t K>
-void gather_links(const LinkVector& links, const LinkGroups& g, const GroupShares& shares,
-                  NodeValues<K>& v) {
+void gather_links(const Hierarchy& h, const LinkVector& links, const LinkGroups& g,
+                  const GroupShares& shares, NodeValues<K>& v) {
     const auto groups = static_cast<std::int64_t>(g.receivers.size());
 #if defined(RADIOSITY_WITH_OPENMP)
 #pragma omp parallel for schedule(dynamic, 64) if (links.size() > 20000)
@@ -194,6 +196,14 @@ void gather_links(const LinkVector& links, const LinkGroups& g, const GroupShare
         const bool cluster = v.is_mixed(r);
         std::array<double, K> acc{};
         std::array<double, facing_classes * K> by_class{};
+        // The most one link can give a class per unit radiosity sent, S_d / A_r: its faces'
+        // irradiance, A_r Hc_d / S_d after push_mixed, is at most the source's radiosity (their
+        // visible form factor is at most 1). A few samples near the source can put more in a
+        // class of little area; the excess stays in H, which goes to every face alike.
+        std::array<double, facing_classes> cap{};
+        if (cluster)
+            for (std::size_t d = 0; d < facing_classes; ++d)
+                cap[d] = v.S[v.mixed[r] * facing_classes + d] / h.area[r];
         std::size_t e = shares.begin[std::size_t(gi)];
         const std::size_t e_end = shares.begin[std::size_t(gi) + 1];
         for (std::size_t i = g.begin[std::size_t(gi)]; i < g.begin[std::size_t(gi) + 1]; ++i) {
@@ -205,7 +215,7 @@ void gather_links(const LinkVector& links, const LinkGroups& g, const GroupShare
             for (std::size_t k = 0; k < K; ++k) acc[k] += t * b[k];
             if (!cluster || x == nullptr || !measured(x->facing)) continue;
             for (std::size_t d = 0; d < facing_classes; ++d) {
-                const double td = t * (double(x->facing[d]) * (1.0 / 255.0));
+                const double td = std::min(t * (double(x->facing[d]) * (1.0 / 255.0)), cap[d]);
                 for (std::size_t k = 0; k < K; ++k) by_class[d * K + k] += td * b[k];
             }
         }
@@ -332,7 +342,8 @@ void pull(const Hierarchy& h, NodeValues<K>& v) {
 /// its light down by orientation class (push_mixed); any other node adds the exposed
 /// irradiance h = H / e of its own links to what came down to it (from a mixed parent, already
 /// in total; else its parent's total), and a leaf takes B = E + rho h. Then pull. Needs S
-/// current (facing_areas). Returns the largest change of a leaf's B (every band). Sequential
+/// current (facing_areas). Returns the largest change of a leaf's B (every band; not finite
+/// where a B is not). Sequential
 /// and in a fixed order. Cost: O(nodes).
 template <std::size_t K>
 double push_pull(const Hierarchy& h, NodeValues<K>& v, std::vector<double>& total,
@@ -357,7 +368,9 @@ double push_pull(const Hierarchy& h, NodeValues<K>& v, std::vector<double>& tota
         if (!h.is_leaf(static_cast<NodeId>(i))) continue;
         for (std::size_t k = 0; k < K; ++k) {  // B = E + rho H
             const double b = v.E[i * K + k] + v.rho[i * K + k] * total[i * K + k];
-            change = std::max(change, std::abs(b - v.B[i * K + k]));
+            const double moved = std::abs(b - v.B[i * K + k]);
+            // A NaN stays, so that the caller sees it: max() would drop it.
+            if (!(moved <= change)) change = std::isnan(change) ? change : moved;
             v.B[i * K + k] = b;
         }
     }

@@ -404,7 +404,7 @@ class HierarchySolve {
         pull(h_, v_);  // Bc from B under these S (a resumed solve has B from its checkpoint only)
         for (;;) {
             auto t = std::chrono::steady_clock::now();
-            gather_links(links_, groups, shares_, v_);
+            gather_links(h_, links_, groups, shares_, v_);
             hr.gather_seconds += seconds_since(t);
             t = std::chrono::steady_clock::now();
             std::array<double, 2> control{checkpoint_due(), stop_ ? 1.0 : 0.0};
@@ -429,6 +429,12 @@ class HierarchySolve {
             t = std::chrono::steady_clock::now();
             const double change = push_pull(h_, v_, total, down);
             hr.push_pull_seconds += seconds_since(t);
+            // Only links whose transfers sum to more than 1 / rho at some leaf make the
+            // iteration grow; never hand on what it made of them.
+            if (!std::isfinite(change))
+                throw Error("hierarchical radiosity: the solution diverged (a radiosity is no "
+                            "longer finite after sweep " + std::to_string(state_.sweeps + 1) +
+                            "); more cluster samples or another seed may avoid it");
             const bool done = sweep_done(change, tolerance, cap, progress, report);
             // One process decides after the sweep (a stop beats convergence, as in the other
             // solvers); several ranks on the words exchanged before it, alike on every rank. A
