@@ -639,6 +639,32 @@ TEST_CASE("the same radiosities on one thread and on two" *
     CHECK(runs[0] == runs[1]);
 }
 
+TEST_CASE("a solve whose radiosities stop being finite stops with an error, never a NaN") {
+    // No physical scene should get there (a link's visible transfer is at most 1, rho at most 1),
+    // but if links ever gathered more than 1 / rho, the sweeps would grow B to infinity and then
+    // NaN. Reflectances of 1e200 make them do it within a few sweeps (elements never split, so
+    // that the refinement, which sees rho too, stops at links between the faces).
+    const Mesh<Rgb> box = build_mesh(cornell_box<Rgb>(true));
+    detail::HierarchySolve<3> solve(detail::hierarchy_of(box),
+                                    HierarchicalOptions{.min_area = 1e12});
+    solve.set_materials([&](std::uint32_t face, double* E, double* rho) {
+        const auto& d = box.data(box.face_handle(static_cast<int>(face)));
+        for (std::size_t k = 0; k < 3; ++k) {
+            E[k] = band(d.emission, k);
+            rho[k] = 1e200;
+        }
+    });
+    HierarchyReport report;
+    try {
+        solve.run(Bvh(solve.hierarchy().roots), 1e-4, 0, {}, report);
+        FAIL("the solve went on");
+    } catch (const Error& e) {
+        const std::string what = e.what();
+        MESSAGE(what);
+        CHECK(what.find("diverged") != std::string::npos);
+    }
+}
+
 TEST_CASE("cancelling: in the refinement it throws, in the solve it reports") {
     const Mesh<Rgb> box = subdivide(build_mesh(cornell_box<Rgb>(true)), SubdivisionOptions{});
     CHECK_THROWS_AS(solve_hierarchical<Rgb>(box, {}, 1e-4, 0,

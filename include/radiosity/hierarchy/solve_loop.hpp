@@ -432,9 +432,11 @@ class HierarchySolve {
             // Only links whose transfers sum to more than 1 / rho at some leaf make the
             // iteration grow; never hand on what it made of them.
             if (!std::isfinite(change))
-                throw Error("hierarchical radiosity: the solution diverged (a radiosity is no "
-                            "longer finite after sweep " + std::to_string(state_.sweeps + 1) +
-                            "); more cluster samples or another seed may avoid it");
+                throw Error(
+                    "hierarchical radiosity: the solution diverged (a radiosity is no "
+                    "longer finite after sweep " +
+                    std::to_string(state_.sweeps + 1) +
+                    "); more cluster samples or another seed may avoid it");
             const bool done = sweep_done(change, tolerance, cap, progress, report);
             // One process decides after the sweep (a stop beats convergence, as in the other
             // solvers); several ranks on the words exchanged before it, alike on every rank. A
