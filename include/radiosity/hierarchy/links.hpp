@@ -314,7 +314,7 @@ inline Vec3 polygon_point(std::span<const Vec3> p, double u, double v) {
 
 /// Stratified sampling of a link's sample pairs (Latin hypercube sampling, McKay, Beckman &
 /// Conover 1979): sample i of n takes stratum i of the receiver and stratum sigma(i) of the
-/// source, sigma a uniformly random permutation (Fisher-Yates; beyond 64 samples a random
+/// source, sigma a uniformly random permutation (Fisher-Yates; beyond 256 samples a random
 /// cyclic shift, which also puts each pair of strata together with probability 1/n), so that
 /// both ends' samples cover their node evenly and the estimate stays unbiased: over sigma every
 /// pair of strata is as likely as in independent sampling. A stratum of a cluster is 1/n of its
@@ -349,7 +349,7 @@ class LinkStrata {
   private:
     int n_;
     int shift_ = 0;
-    std::array<std::uint16_t, 64> shuffled_;  // the first n_ set (not zeroed: one per link)
+    std::array<std::uint16_t, 256> shuffled_{};
 };
 
 /// The root of cluster n at area coordinate xi in [0, 1) (its faces laid end to end by area in
@@ -436,26 +436,17 @@ inline double sending_importance(const Hierarchy& h, NodeId c, const Vec3& x, co
 /// (as light trees pick a light, Conty Estevez & Kulla 2018): at each cluster one of its two
 /// children with probability in proportion to sending_importance, the number xi in [0, 1)
 /// rescaled to the part it fell in, so that a stratum of xi stays a stratum of the choices; the
-/// probability of the face is the product of the choices', and `u` what is left of xi; below
-/// a part farther than 4 of its radii from x, by area within it. By area
+/// probability of the face is the product of the choices', and `u` what is left of xi. By area
 /// alone, a point beside a large cluster would pick the few faces near it (which send it most
 /// of what it gets) with their tiny share of the area and weigh them by its inverse: the
 /// estimate is right on average, but a single sample can give a transfer of hundreds, and a
 /// receiver whose transfers sum to more than 1 / rho makes the iteration diverge. Cost:
-/// two importances per level of the tree below s down to the first far part.
+/// two importances per level of the tree below s.
 inline std::uint32_t descend_to_face(const Hierarchy& h, NodeId s, const Vec3& x, const Vec3& nx,
                                      double xi, double& probability, double& u) {
     NodeId n = s;
     double p = 1.0;
     while (h.is_cluster(n)) {
-        // A part farther than 4 of its radii: the kernel varies little over it, so by area
-        // within it (as FaceChoice for a far cluster), at the cost of one search.
-        const Vec3 d = h.centre[n] - x;
-        if (glm::dot(d, d) > 16.0 * h.radius[n] * h.radius[n]) {
-            const std::uint32_t root = root_at(h, n, xi, u);
-            probability = p * h.roots.area(root) / h.area[n];
-            return root;
-        }
         const NodeId a = h.first_child[n];
         const double ia = sending_importance(h, a, x, nx), ib = sending_importance(h, a + 1, x, nx);
         const double pa = ia + ib > 0.0 ? ia / (ia + ib) : 0.5;
