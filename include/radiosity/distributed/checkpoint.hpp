@@ -88,11 +88,9 @@ class CheckpointWriter {
         }
     }
 
-    /// "RADCKPT" and the format's version: 5 since the cluster links' stratified samples and
-    /// faces picked down the cluster's tree (4: the oracle's oriented clusters), as a solve
-    /// resumed under other samples would not give the bits of one never stopped (a link's class
-    /// shares are sampled again from its pair).
-    static constexpr std::array<char, 8> magic{'R', 'A', 'D', 'C', 'K', 'P', 'T', 5};
+    /// "RADCKPT" and the format's version: 4 since the refinement oracle's oriented clusters, as
+    /// a solve resumed under another oracle would not give the bits of one never stopped.
+    static constexpr std::array<char, 8> magic{'R', 'A', 'D', 'C', 'K', 'P', 'T', 4};
 
   private:
     void put(const void* p, std::size_t n) {

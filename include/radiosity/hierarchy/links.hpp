@@ -19,8 +19,6 @@
 #include <cstdint>
 #include <numbers>
 #include <optional>
-#include <tuple>
-#include <utility>
 #include <vector>
 
 namespace radiosity {
@@ -312,73 +310,20 @@ inline Vec3 polygon_point(std::span<const Vec3> p, double u, double v) {
     return (1.0 - s) * p[0] + s * (1.0 - v) * p[t + 1] + s * v * p[t + 2];
 }
 
-/// Stratified sampling of a link's sample pairs (Latin hypercube sampling, McKay, Beckman &
-/// Conover 1979): sample i of n takes stratum i of the receiver and stratum sigma(i) of the
-/// source, sigma a uniformly random permutation (Fisher-Yates; beyond 256 samples a random
-/// cyclic shift, which also puts each pair of strata together with probability 1/n), so that
-/// both ends' samples cover their node evenly and the estimate stays unbiased: over sigma every
-/// pair of strata is as likely as in independent sampling. A stratum of a cluster is 1/n of its
-/// area in the order of its faces (the BVH's, so a stratum is a compact part of the cluster);
-/// of an element, a cell of a k x k grid over its unit square where n = k^2, else a band of u.
-class LinkStrata {
-  public:
-    LinkStrata(int n, Rng& rng) : n_(n) {
-        if (n_ > int(shuffled_.size())) {
-            shift_ = std::min(int(rng.uniform() * n_), n_ - 1);
-            return;
-        }
-        for (int i = 0; i < n_; ++i) shuffled_[std::size_t(i)] = static_cast<std::uint16_t>(i);
-        for (int m = n_; m > 1; --m)
-            std::swap(shuffled_[std::size_t(m - 1)],
-                      shuffled_[static_cast<std::size_t>(rng.uniform() * double(m))]);
-    }
-    /// The source's stratum that sample i pairs with its receiver's stratum i.
-    int source(int i) const {
-        return n_ > int(shuffled_.size()) ? (i + shift_) % n_ : shuffled_[std::size_t(i)];
-    }
-    /// A uniform number in stratum j of [0, 1) (for a cluster's area).
-    double along(int j, Rng& rng) const { return (j + rng.uniform()) / n_; }
-    /// A uniform point (u, v) in stratum j of the unit square (for an element).
-    std::pair<double, double> square(int j, Rng& rng) const {
-        const int k = static_cast<int>(std::lround(std::sqrt(double(n_))));
-        if (k * k != n_) return {along(j, rng), rng.uniform()};
-        const double u = (j / k + rng.uniform()) / k;
-        return {u, (j % k + rng.uniform()) / k};
-    }
-
-  private:
-    int n_;
-    int shift_ = 0;
-    std::array<std::uint16_t, 256> shuffled_{};
-};
-
-/// The root of cluster n at area coordinate xi in [0, 1) (its faces laid end to end by area in
-/// their order), and in `u` where xi falls within that root's share, again in [0, 1): uniform
-/// there for a uniform xi, so that (root, u) stand for one uniform area coordinate, and a
-/// stratum of xi is a stratum of the cluster's area down to within its faces.
-inline std::uint32_t root_at(const Hierarchy& h, NodeId n, double xi, double& u) {
-    const double a = h.order_area[h.member_begin[n]] + xi * h.area[n];
-    const auto first = h.order_area.begin() + h.member_begin[n] + 1,
-               last = h.order_area.begin() + h.member_end[n];
-    const auto pos = std::min(
-        static_cast<std::uint32_t>(std::upper_bound(first, last, a) - h.order_area.begin() - 1),
-        h.member_end[n] - 1);
-    const std::uint32_t root = h.order[pos];
-    u = std::clamp((a - h.order_area[pos]) / h.roots.area(root), 0.0, 1.0);
-    return root;
-}
-
-/// A uniform random point on node n in stratum j of `strata`, by area over a cluster's roots,
-/// and the root it lies on.
-inline Vec3 stratified_point(const Hierarchy& h, NodeId n, const LinkStrata& strata, int j,
-                             Rng& rng, std::uint32_t& root) {
+/// A uniform random point on node n, by area over a cluster's roots, and the root it lies on.
+inline Vec3 uniform_point(const Hierarchy& h, NodeId n, Rng& rng, std::uint32_t& root) {
     if (!h.is_cluster(n)) {
         root = h.root_of(n);
-        const auto [u, v] = strata.square(j, rng);
-        return polygon_point(h.polygon(n), u, v);
+        const double u = rng.uniform();
+        return polygon_point(h.polygon(n), u, rng.uniform());
     }
-    double u = 0.0;
-    root = root_at(h, n, strata.along(j, rng), u);
+    const double a = h.order_area[h.member_begin[n]] + rng.uniform() * h.area[n];
+    const auto first = h.order_area.begin() + h.member_begin[n] + 1,
+               last = h.order_area.begin() + h.member_end[n];
+    const auto pos =
+        static_cast<std::uint32_t>(std::upper_bound(first, last, a) - h.order_area.begin() - 1);
+    root = h.order[std::min(pos, h.member_end[n] - 1)];
+    const double u = rng.uniform();
     return polygon_point(h.roots.polygon(root), u, rng.uniform());
 }
 
@@ -413,81 +358,22 @@ inline bool small_from(const Vec3& x, std::span<const Vec3> p) {
 /// Clusters of at most this many faces are sampled face by face by importance (FaceChoice).
 inline constexpr std::uint32_t importance_faces = 16;
 
-/// A cheap, never-zero stand-in for what node c of a source cluster sends to a point x with
-/// normal nx: the point-to-point kernel at c's centre, softened over c's size,
-/// A_c (cos_x + 0.05) (cos_c + 0.05) / (d^2 + radius_c^2), with cos_c a cluster's projected
-/// area toward x over its area (cluster_facing). Never 0 for a face of some area, so that every
-/// face that can send anything can be picked and the estimate stays unbiased. (Widening each
-/// cosine to its largest over c's bounding sphere, as light trees bound a cone, doubled the
-/// spread of the estimates beside a tessellated floor: it takes the far parts of a large flat
-/// cluster for as bright as the near ones.)
-inline double sending_importance(const Hierarchy& h, NodeId c, const Vec3& x, const Vec3& nx) {
-    const Vec3 d = h.centre[c] - x;
-    const double d2 = glm::dot(d, d);
-    const Vec3 u = d / (std::sqrt(d2) + 1e-300);
-    const double cx = std::max(glm::dot(nx, u), 0.0) + 0.05;
-    const double cc = (h.is_cluster(c) ? cluster_facing(h, c, -u).toward
-                                       : std::max(-glm::dot(h.normal[c], u), 0.0)) +
-                      0.05;
-    return h.area[c] * cx * cc / (d2 + h.radius[c] * h.radius[c]);
-}
-
-/// A face of cluster s for a sample at x (normal nx), by importance down the cluster's tree
-/// (as light trees pick a light, Conty Estevez & Kulla 2018): at each cluster one of its two
-/// children with probability in proportion to sending_importance, the number xi in [0, 1)
-/// rescaled to the part it fell in, so that a stratum of xi stays a stratum of the choices; the
-/// probability of the face is the product of the choices', and `u` what is left of xi. By area
-/// alone, a point beside a large cluster would pick the few faces near it (which send it most
-/// of what it gets) with their tiny share of the area and weigh them by its inverse: the
-/// estimate is right on average, but a single sample can give a transfer of hundreds, and a
-/// receiver whose transfers sum to more than 1 / rho makes the iteration diverge. Cost:
-/// two importances per level of the tree below s.
-inline std::uint32_t descend_to_face(const Hierarchy& h, NodeId s, const Vec3& x, const Vec3& nx,
-                                     double xi, double& probability, double& u) {
-    NodeId n = s;
-    double p = 1.0;
-    while (h.is_cluster(n)) {
-        const NodeId a = h.first_child[n];
-        const double ia = sending_importance(h, a, x, nx), ib = sending_importance(h, a + 1, x, nx);
-        const double pa = ia + ib > 0.0 ? ia / (ia + ib) : 0.5;
-        if (xi < pa || pa >= 1.0) {  // (pa = 1: the other child has no area)
-            xi /= pa;
-            p *= pa;
-            n = a;
-        } else {
-            xi = (xi - pa) / (1.0 - pa);
-            p *= 1.0 - pa;
-            n = a + 1;
-        }
-        xi = std::clamp(xi, 0.0, 1.0);
-    }
-    probability = p;
-    u = xi;
-    return h.root_of(n);
-}
-
-/// How the samples of a link pick a face of its source cluster s, decided once per link: where
-/// s is farther than 4 of its radii from every point of the receiver r (the kernel varies
-/// little over it), by area; nearer, by importance: for a small cluster, by a table made once
-/// per link of what each face b would carry to r's centre x, the point-to-point kernel at b's
-/// centroid, A_b (cos_x + 0.05) (cos_b + 0.05) / (d^2 + A_b) (never 0, so that every face that
-/// can carry anything can be picked and the estimate stays unbiased; cos_x is 1 for a cluster
-/// receiver, which faces every way); for a large one, down its tree from each sample's own
-/// point (descend_to_face). Cost: O(faces) once for a small near cluster, O(depth) per sample
-/// for a large near one.
+/// How the samples of a link pick a face of its source cluster s, decided once per link: for a
+/// small cluster near the receiver r, by a cheap estimate of what each face b carries to r's
+/// centre x, the point-to-point kernel at b's centroid, A_b (cos_x + 0.05) (cos_b + 0.05) /
+/// (d^2 + A_b) (never 0, so that every face that can carry anything can be picked and the
+/// estimate stays unbiased; cos_x is 1 for a cluster receiver, which faces every way); for a
+/// large cluster, or one farther than 4 of its radii (where the kernel varies little over it),
+/// by area. One table per link, not per sample: a sample's own point would follow the kernel a
+/// little better, at a cost of O(faces) square roots per sample. Cost: O(faces) once.
 class FaceChoice {
   public:
-    enum class Way : std::uint8_t { by_area, by_table, by_tree };
-
     FaceChoice(const Hierarchy& h, NodeId r, NodeId s)
         : h_(h), s_(s), begin_(h.member_begin[s]), end_(h.member_end[s]) {
         const Vec3 x = h.centre[r];
-        if (glm::length(h.centre[s] - x) > 4.0 * h.radius[s] + h.radius[r]) return;
-        if (end_ - begin_ > importance_faces) {
-            way_ = Way::by_tree;
-            return;
-        }
-        way_ = Way::by_table;
+        by_area_ =
+            end_ - begin_ > importance_faces || glm::length(h.centre[s] - x) > 4.0 * h.radius[s];
+        if (by_area_) return;
         const bool oriented = !h.is_cluster(r);
         for (std::uint32_t i = begin_; i < end_; ++i) {
             const std::uint32_t f = h.order[i];
@@ -500,26 +386,21 @@ class FaceChoice {
         }
     }
 
-    /// The face of s at xi in [0, 1) (a uniform number, or one in a stratum: each face is picked
-    /// with its probability all the same) for a sample at x with normal nx, that probability,
-    /// and in `u` where xi fell within the face's share, again uniform in [0, 1) (root_at).
-    std::uint32_t pick(double xi, const Vec3& x, const Vec3& nx, double& probability,
-                       double& u) const {
-        if (way_ == Way::by_area) {
-            const std::uint32_t root = root_at(h_, s_, xi, u);
+    /// A face of s, and the probability it was picked with.
+    std::uint32_t pick(Rng& rng, double& probability) const {
+        if (by_area_) {
+            std::uint32_t root = 0;
+            uniform_point(h_, s_, rng, root);
             probability = h_.roots.area(root) / h_.area[s_];
             return root;
         }
-        if (way_ == Way::by_tree) return descend_to_face(h_, s_, x, nx, xi, probability, u);
-        const double y = xi * total_;
+        const double u = rng.uniform() * total_;
         const std::size_t n = end_ - begin_;
         const std::size_t i = std::min<std::size_t>(
-            std::size_t(std::upper_bound(cumulative_.begin(), cumulative_.begin() + n, y) -
+            std::size_t(std::upper_bound(cumulative_.begin(), cumulative_.begin() + n, u) -
                         cumulative_.begin()),
             n - 1);
-        const double below = i > 0 ? cumulative_[i - 1] : 0.0;
-        probability = (cumulative_[i] - below) / total_;
-        u = std::clamp((y - below) / (cumulative_[i] - below), 0.0, 1.0);
+        probability = (cumulative_[i] - (i > 0 ? cumulative_[i - 1] : 0.0)) / total_;
         return h_.order[begin_ + i];
     }
 
@@ -527,7 +408,7 @@ class FaceChoice {
     const Hierarchy& h_;
     NodeId s_;
     std::uint32_t begin_, end_;
-    Way way_ = Way::by_area;
+    bool by_area_ = true;
     double total_ = 0.0;
     std::array<double, importance_faces> cumulative_{};
 };
@@ -537,9 +418,7 @@ class FaceChoice {
 /// Transfer and visibility of a link with a cluster at one end, sampled (Monte Carlo over the
 /// true surfaces, not the isotropic model): `samples` points x uniform by area on r, each with a
 /// face b of s (FaceChoice: by importance in a small near cluster, by area otherwise, with
-/// probability p_b), both ends stratified (LinkStrata: one sample in each nth of r's area, one
-/// in each nth of s's area or importance, paired at random), T_rs = mean of F(x -> b) / p_b,
-/// where F(x -> b) is Lambert's exact
+/// probability p_b), T_rs = mean of F(x -> b) / p_b, where F(x -> b) is Lambert's exact
 /// point-to-polygon form factor (bounded, unlike the point-to-point kernel, so that near and
 /// overlapping nodes are estimated as well as far ones; beyond 4 reaches, the kernel at a
 /// uniform point y of b times A_b, the same in expectation and cheaper), and V = sum w V / sum w
@@ -559,22 +438,18 @@ SampledTransfer sampled_transfer(const Hierarchy& h, const V& scene, NodeId r, N
     double sum = 0.0, seen = 0.0;
     std::array<double, facing_classes> facing{}, sending{};
     const bool split_r = h.mixed(r), split_s = h.mixed(s);
-    const detail::LinkStrata strata(samples, rng);
     for (int i = 0; i < samples; ++i) {
         std::uint32_t a = 0, b = 0;
-        const Vec3 x = detail::stratified_point(h, r, strata, i, rng, a);
+        const Vec3 x = detail::uniform_point(h, r, rng, a);
         const Vec3 nx = h.is_cluster(r) ? h.roots.normal(a) : h.normal[r];
-        double p = 1.0, u = 0.0, v = 0.0;
-        const int j = strata.source(i);
-        if (choice) {
-            b = choice->pick(strata.along(j, rng), x, nx, p, u);
-            v = rng.uniform();
-        } else {
+        double p = 1.0;
+        if (choice)
+            b = choice->pick(rng, p);
+        else
             b = h.root_of(s);
-            std::tie(u, v) = strata.square(j, rng);
-        }
         const auto face = h.is_cluster(s) ? h.roots.polygon(b) : h.polygon(s);
-        const Vec3 y = detail::polygon_point(face, u, v);
+        const double u = rng.uniform();
+        const Vec3 y = detail::polygon_point(face, u, rng.uniform());
         // Far apart, the point-to-point kernel at y, times the face's area, is as good and
         // needs no arc tangents; near, only Lambert's integral over the face stays bounded.
         const Vec3 ny = h.is_cluster(s) ? h.roots.normal(b) : h.normal[s];
@@ -593,13 +468,7 @@ SampledTransfer sampled_transfer(const Hierarchy& h, const V& scene, NodeId r, N
         if (split_s) sending[facing_class(ny)] += w;
     }
     if (sum == 0.0) return {0.0, 1.0, {}, {}};
-    // The visible transfer T V = seen / samples is the mean irradiance over r per unit
-    // radiosity of s, at most 1 (a form factor); a few samples near s can give more (a face
-    // beside x picked with its small share of s), and links that gather more than 1 / rho
-    // make the iteration diverge. So T is cut to 1 / V there. (T alone may pass 1: faces
-    // behind faces.)
-    const double T = seen > double(samples) ? sum / seen : sum / samples;
-    return {T, seen / sum, facing, sending};
+    return {sum / samples, seen / sum, facing, sending};
 }
 
 /// How the light of a link with a mixed cluster (Hierarchy::mixed) at either end divides among
