@@ -468,7 +468,13 @@ SampledTransfer sampled_transfer(const Hierarchy& h, const V& scene, NodeId r, N
         if (split_s) sending[facing_class(ny)] += w;
     }
     if (sum == 0.0) return {0.0, 1.0, {}, {}};
-    return {sum / samples, seen / sum, facing, sending};
+    // The visible transfer T V = seen / samples is the mean irradiance over r per unit
+    // radiosity of s, at most 1 (a form factor); a few samples near a large s can give more (a
+    // face beside x picked with its small share of the area), and links that gather more than
+    // 1 / rho make the iteration diverge. So T is cut to 1 / V there. (T alone may pass 1:
+    // faces behind faces.)
+    const double T = seen > double(samples) ? sum / seen : sum / samples;
+    return {T, seen / sum, facing, sending};
 }
 
 /// How the light of a link with a mixed cluster (Hierarchy::mixed) at either end divides among
