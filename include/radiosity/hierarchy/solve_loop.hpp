@@ -399,6 +399,7 @@ class HierarchySolve {
         if (comm_->size() > 1) mine.resize(groups.receivers.size() * width);
         exchange.share(link_rows(links_, groups), 1, row, {});
         q_rows_ = hierarchy_contraction(h_, std::move(row), v_);
+        const double emission = *std::max_element(v_.E.begin(), v_.E.end());
         v_.clear_irradiance();  // the links changed: gathers write their receivers' only
         facing_areas(h_, v_);   // the exposure may have changed with them
         pull(h_, v_);  // Bc from B under these S (a resumed solve has B from its checkpoint only)
@@ -429,14 +430,7 @@ class HierarchySolve {
             t = std::chrono::steady_clock::now();
             const double change = push_pull(h_, v_, total, down);
             hr.push_pull_seconds += seconds_since(t);
-            // Only links whose transfers sum to more than 1 / rho at some leaf make the
-            // iteration grow; never hand on what it made of them.
-            if (!std::isfinite(change))
-                throw Error(
-                    "hierarchical radiosity: the solution diverged (a radiosity is no "
-                    "longer finite after sweep " +
-                    std::to_string(state_.sweeps + 1) +
-                    "); more cluster samples or another seed may avoid it");
+            check_divergence(change, emission);
             const bool done = sweep_done(change, tolerance, cap, progress, report);
             // One process decides after the sweep (a stop beats convergence, as in the other
             // solvers); several ranks on the words exchanged before it, alike on every rank. A
@@ -450,6 +444,21 @@ class HierarchySolve {
             }
             if (done) return;
         }
+    }
+
+    /// Throws if the sweeps diverge: a radiosity no longer finite, or the brightest leaf past
+    /// 1e9 times the brightest emission (`emission`, any band). No solution of B = E + rho F B with
+    /// rho < 1 comes near
+    /// (||B|| <= ||E|| / (1 - rho_max)); only links that gather more than 1 / rho at some leaf
+    /// grow B so, and what the sweeps make of them must not be handed on. (Slow growth, a few
+    /// percent a sweep, stays finite to the last sweep and would end as "not converged" with
+    /// radiosities of 1e300.)
+    void check_divergence(double change, double emission) const {
+        if (std::isfinite(change) && !(v_.B_max[0] > 1e9 * emission)) return;
+        throw Error("hierarchical radiosity: the solution diverged after sweep " +
+                    std::to_string(state_.sweeps + 1) +
+                    " (a radiosity past 1e9 times the brightest emission, or not finite); more "
+                    "cluster samples or another seed may avoid it");
     }
 
     /// After a sweep: the stopping rule and progress; true when the pass's sweeps are done.
