@@ -180,8 +180,8 @@ std::array<double, K> sent(const Link& l, const ClassShares* x, const NodeValues
 /// links in their sorted order (the same sums for any thread count); a mixed cluster receiver
 /// also sums each link's light by the classes that took it (ClassShares::facing) into Hc, at
 /// most S_d / A_r per unit radiosity from one link (the faces' irradiance at most the source's
-/// radiosity; the rest of the link's light goes to every face alike). A
-/// link's shares are the next of its group's entries if that names its source. Writes the
+/// radiosity; the rest of the link's light goes to every face alike). A link's shares are
+/// the next of its group's entries if that names its source. Writes the
 /// receivers' H and Hc only: the others' must be 0 (NodeValues::clear_irradiance, due when the
 /// links change; a fill per sweep would write 300 MB at a million faces). Cost: O(links).
 template <std::size_t K>
@@ -343,8 +343,7 @@ void pull(const Hierarchy& h, NodeValues<K>& v) {
 /// irradiance h = H / e of its own links to what came down to it (from a mixed parent, already
 /// in total; else its parent's total), and a leaf takes B = E + rho h. Then pull. Needs S
 /// current (facing_areas). Returns the largest change of a leaf's B (every band; not finite
-/// where a B is not). Sequential
-/// and in a fixed order. Cost: O(nodes).
+/// where a B is not). Sequential and in a fixed order. Cost: O(nodes).
 template <std::size_t K>
 double push_pull(const Hierarchy& h, NodeValues<K>& v, std::vector<double>& total,
                  std::vector<double>& down) {

@@ -447,12 +447,11 @@ class HierarchySolve {
     }
 
     /// Throws if the sweeps diverge: a radiosity no longer finite, or the brightest leaf past
-    /// 1e9 times the brightest emission (`emission`, any band). No solution of B = E + rho F B with
-    /// rho < 1 comes near
-    /// (||B|| <= ||E|| / (1 - rho_max)); only links that gather more than 1 / rho at some leaf
-    /// grow B so, and what the sweeps make of them must not be handed on. (Slow growth, a few
-    /// percent a sweep, stays finite to the last sweep and would end as "not converged" with
-    /// radiosities of 1e300.)
+    /// 1e9 times the brightest emission (`emission`, any band). No solution of B = E + rho F B
+    /// with rho < 1 comes near (||B|| <= ||E|| / (1 - rho_max)); only links that gather more
+    /// than 1 / rho at some leaf grow B so, and what the sweeps make of them must not be handed
+    /// on. (The million-triangle box at seed 3 grew so and stayed finite through its 1,000
+    /// sweeps, to end as "not converged" with radiosities past 1e300.)
     void check_divergence(double change, double emission) const {
         if (std::isfinite(change) && !(v_.B_max[0] > 1e9 * emission)) return;
         throw Error("hierarchical radiosity: the solution diverged after sweep " +
