@@ -16,6 +16,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -647,12 +648,9 @@ TEST_CASE("a solve whose radiosities stop being finite stops with an error, neve
     const Mesh<Rgb> box = build_mesh(cornell_box<Rgb>(true));
     detail::HierarchySolve<3> solve(detail::hierarchy_of(box),
                                     HierarchicalOptions{.min_area = 1e12});
-    solve.set_materials([&](std::uint32_t face, double* E, double* rho) {
-        const auto& d = box.data(box.face_handle(static_cast<int>(face)));
-        for (std::size_t k = 0; k < 3; ++k) {
-            E[k] = band(d.emission, k);
-            rho[k] = 1e200;
-        }
+    solve.set_materials([faces = materials_of(box)](std::uint32_t face, double* E, double* rho) {
+        faces(face, E, rho);
+        std::fill_n(rho, 3, 1e200);
     });
     HierarchyReport report;
     try {

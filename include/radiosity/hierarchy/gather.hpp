@@ -368,8 +368,8 @@ double push_pull(const Hierarchy& h, NodeValues<K>& v, std::vector<double>& tota
         for (std::size_t k = 0; k < K; ++k) {  // B = E + rho H
             const double b = v.E[i * K + k] + v.rho[i * K + k] * total[i * K + k];
             const double moved = std::abs(b - v.B[i * K + k]);
-            // A NaN stays, so that the caller sees it: max() would drop it.
-            if (!(moved <= change)) change = std::isnan(change) ? change : moved;
+            // A NaN (moved or change) stays, so that the caller sees it: max() would drop it.
+            if (!(moved <= change) && !std::isnan(change)) change = moved;
             v.B[i * K + k] = b;
         }
     }
