@@ -7,9 +7,8 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <map>
+#include <limits>
 #include <numeric>
-#include <set>
 #include <utility>
 #include <vector>
 
@@ -22,11 +21,123 @@ struct ManifoldFaces {
     std::vector<std::uint32_t> origin;              ///< input vertex of every output vertex
 };
 
+namespace detail {
+
+/// Lists of items per vertex in flat storage (compressed rows): the items of vertex v are
+/// item[begin[v], begin[v + 1]). Rows are sized by a first count, so filling them never
+/// allocates; a million-face soup made a million small vectors (and, in the std::set and
+/// std::map this replaced, six million tree nodes), and was a fifth of loading it.
+template <class Item>
+struct VertexRows {
+    std::vector<std::size_t> begin;
+    std::vector<Item> item;
+    /// Rows of capacity[v] items each.
+    explicit VertexRows(const std::vector<std::size_t>& capacity) : begin(capacity.size() + 1, 0) {
+        for (std::size_t v = 0; v < capacity.size(); ++v) begin[v + 1] = begin[v] + capacity[v];
+        item.resize(begin.back());
+    }
+};
+
+/// The edges of the faces kept so far by make_manifold's first step, each undirected edge in
+/// the row of its lower vertex: its other vertex, how many faces use it, and which directions
+/// they run (bit 0: low to high, bit 1: high to low). Rows hold every edge that could be there
+/// (a vertex's row is sized by its corners), and are searched linearly: a vertex has a handful
+/// of edges.
+class EdgeUses {
+  public:
+    /// Room for the edges of `faces` over `vertex_count` vertices.
+    EdgeUses(const std::vector<std::vector<std::uint32_t>>& faces, std::size_t vertex_count)
+        : used_(vertex_count, 0), rows_(edge_capacity(faces, vertex_count)) {}
+
+    /// Whether a face may run from a to b: no kept face runs that way and fewer than two use it.
+    bool fits(std::uint32_t a, std::uint32_t b) const {
+        const Edge* e = find(a, b);
+        return e == nullptr || (e->uses < 2 && (e->directions & direction(a, b)) == 0);
+    }
+    /// Records a kept face's edge from a to b.
+    void add(std::uint32_t a, std::uint32_t b) {
+        Edge* e = find(a, b);
+        if (e == nullptr) {
+            const std::uint32_t low = std::min(a, b);
+            e = &rows_.item[rows_.begin[low] + used_[low]++];
+            e->other = std::max(a, b);
+        }
+        ++e->uses;
+        e->directions |= direction(a, b);
+    }
+
+  private:
+    struct Edge {
+        std::uint32_t other = 0;
+        std::uint8_t uses = 0, directions = 0;
+    };
+    static std::uint8_t direction(std::uint32_t a, std::uint32_t b) { return a < b ? 1 : 2; }
+    static std::vector<std::size_t> edge_capacity(
+        const std::vector<std::vector<std::uint32_t>>& faces, std::size_t vertex_count) {
+        std::vector<std::size_t> capacity(vertex_count, 0);
+        for (const auto& f : faces)
+            for (std::size_t k = 0; k < f.size(); ++k)
+                ++capacity[std::min(f[k], f[(k + 1) % f.size()])];
+        return capacity;
+    }
+    const Edge* find(std::uint32_t a, std::uint32_t b) const {
+        const std::uint32_t low = std::min(a, b), high = std::max(a, b);
+        const Edge* row = rows_.item.data() + rows_.begin[low];
+        for (std::uint32_t i = 0; i < used_[low]; ++i)
+            if (row[i].other == high) return row + i;
+        return nullptr;
+    }
+    Edge* find(std::uint32_t a, std::uint32_t b) {
+        return const_cast<Edge*>(std::as_const(*this).find(a, b));
+    }
+
+    std::vector<std::uint32_t> used_;  // edges in each row so far
+    VertexRows<Edge> rows_;
+};
+
+/// The fans of faces around one vertex: `ring` lists the (face, corner) pairs at the vertex,
+/// and two of them share a fan when their faces share an edge at it, directly or through
+/// others. Writes each ring entry's fan as the index of the fan's first entry in ring order
+/// into `fan` (union-find over the entries, uniting those that name the same vertex as a
+/// neighbour: sorting the (neighbour, entry) pairs puts those side by side). `scratch` is
+/// reused between vertices.
+inline void fans_around(const std::vector<std::vector<std::uint32_t>>& faces,
+                        const std::pair<std::uint32_t, std::uint32_t>* ring, std::size_t size,
+                        std::vector<std::uint32_t>& fan,
+                        std::vector<std::pair<std::uint32_t, std::uint32_t>>& scratch) {
+    fan.resize(size);
+    std::iota(fan.begin(), fan.end(), std::uint32_t{0});
+    auto find = [&](std::uint32_t x) {
+        while (fan[x] != x) x = fan[x] = fan[fan[x]];
+        return x;
+    };
+    scratch.clear();
+    for (std::uint32_t r = 0; r < size; ++r) {
+        const auto& f = faces[ring[r].first];
+        const std::size_t k = ring[r].second, n = f.size();
+        scratch.push_back({f[(k + 1) % n], r});
+        scratch.push_back({f[(k + n - 1) % n], r});
+    }
+    std::sort(scratch.begin(), scratch.end());
+    for (std::size_t i = 1; i < scratch.size(); ++i)
+        if (scratch[i].first == scratch[i - 1].first) {
+            // The root of a fan is its first entry in ring order: union by the smaller root.
+            const std::uint32_t a = find(scratch[i].second), b = find(scratch[i - 1].second);
+            fan[std::max(a, b)] = std::min(a, b);
+        }
+    for (std::uint32_t r = 0; r < size; ++r) fan[r] = find(r);
+}
+
+}  // namespace detail
+
 /// Splits vertices so that the faces form an oriented 2-manifold with boundary: (1) a face that
 /// would add a third face to an edge, or run along an edge in the same direction as a face
 /// already there, gets its own copies of its vertices; (2) at every vertex, the faces around it
-/// are grouped into fans connected through shared edges, and each fan after the first gets its
-/// own copy of the vertex. Faces must have distinct vertices. Cost: O(corners log corners).
+/// are grouped into fans connected through shared edges, and each fan after the first (in the
+/// order of the faces) gets its own copy of the vertex. Faces must have distinct vertices.
+/// Edges and rings are kept in flat rows per vertex (detail::EdgeUses, detail::VertexRows);
+/// tests/test_manifold.cpp keeps the plain version, with a std::map per edge and per ring,
+/// and holds the two to the same output. Cost: O(corners log corners).
 inline ManifoldFaces make_manifold(const std::vector<std::vector<std::uint32_t>>& faces,
                                    std::size_t vertex_count) {
     ManifoldFaces out;
@@ -37,57 +148,49 @@ inline ManifoldFaces make_manifold(const std::vector<std::vector<std::uint32_t>>
         return static_cast<std::uint32_t>(out.origin.size() - 1);
     };
     // (1) Edges: each directed edge once, each undirected edge at most twice.
-    std::set<std::pair<std::uint32_t, std::uint32_t>> directed;
-    std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+    detail::EdgeUses edges(faces, vertex_count);
+    out.faces.reserve(faces.size());
     for (const auto& f : faces) {
         bool fits = true;
-        for (std::size_t k = 0; k < f.size() && fits; ++k) {
-            const std::uint32_t a = f[k], b = f[(k + 1) % f.size()];
-            const auto key = std::minmax(a, b);
-            fits = !directed.count({a, b}) && uses[{key.first, key.second}] < 2;
-        }
+        for (std::size_t k = 0; k < f.size() && fits; ++k)
+            fits = edges.fits(f[k], f[(k + 1) % f.size()]);
         std::vector<std::uint32_t> g = f;
-        if (fits) {
-            for (std::size_t k = 0; k < f.size(); ++k) {
-                const std::uint32_t a = f[k], b = f[(k + 1) % f.size()];
-                directed.insert({a, b});
-                const auto key = std::minmax(a, b);
-                ++uses[{key.first, key.second}];
-            }
-        } else {
+        if (fits)
+            for (std::size_t k = 0; k < f.size(); ++k) edges.add(f[k], f[(k + 1) % f.size()]);
+        else
             for (auto& v : g) v = copy_of(v);
-        }
         out.faces.push_back(std::move(g));
     }
-    // (2) Fans: union the faces around each vertex that share an edge at it.
-    std::vector<std::vector<std::pair<std::size_t, std::size_t>>> around(out.origin.size());
+    // (2) Fans: the (face, corner) pairs around each vertex, in face order, then each fan after
+    // the first onto a copy of the vertex.
+    std::vector<std::size_t> corners(out.origin.size(), 0);
+    for (const auto& f : out.faces)
+        for (const std::uint32_t v : f) ++corners[v];
+    detail::VertexRows<std::pair<std::uint32_t, std::uint32_t>> around(corners);
+    std::fill(corners.begin(), corners.end(), 0);  // now: entries filled per row
     for (std::size_t f = 0; f < out.faces.size(); ++f)
-        for (std::size_t k = 0; k < out.faces[f].size(); ++k)
-            around[out.faces[f][k]].push_back({f, k});
-    for (std::uint32_t v = 0; v < around.size(); ++v) {
-        const auto& ring = around[v];
-        if (ring.size() < 2) continue;
-        std::vector<std::size_t> group(ring.size());
-        std::iota(group.begin(), group.end(), std::size_t{0});
-        auto find = [&](std::size_t x) {
-            while (group[x] != x) x = group[x] = group[group[x]];
-            return x;
-        };
-        std::map<std::uint32_t, std::size_t> by_neighbour;  // other end of an edge at v -> face
-        for (std::size_t r = 0; r < ring.size(); ++r) {
-            const auto& f = out.faces[ring[r].first];
-            const std::size_t k = ring[r].second, n = f.size();
-            for (std::uint32_t w : {f[(k + 1) % n], f[(k + n - 1) % n]}) {
-                auto [it, fresh] = by_neighbour.try_emplace(w, r);
-                if (!fresh) group[find(r)] = find(it->second);
-            }
+        for (std::size_t k = 0; k < out.faces[f].size(); ++k) {
+            const std::uint32_t v = out.faces[f][k];
+            around.item[around.begin[v] + corners[v]++] = {std::uint32_t(f), std::uint32_t(k)};
         }
-        std::map<std::size_t, std::uint32_t> vertex_of;  // fan root -> vertex for that fan
-        for (std::size_t r = 0; r < ring.size(); ++r) {
-            const std::size_t root = find(r);
-            auto [it, fresh] = vertex_of.try_emplace(root, v);
-            if (fresh && vertex_of.size() > 1) it->second = copy_of(v);
-            out.faces[ring[r].first][ring[r].second] = it->second;
+    constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
+    std::vector<std::uint32_t> fan, vertex_of;
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> scratch;
+    const auto vertices = static_cast<std::uint32_t>(around.begin.size() - 1);
+    for (std::uint32_t v = 0; v < vertices; ++v) {
+        const std::size_t size = around.begin[v + 1] - around.begin[v];
+        if (size < 2) continue;
+        const auto* ring = around.item.data() + around.begin[v];
+        detail::fans_around(out.faces, ring, size, fan, scratch);
+        vertex_of.assign(size, none);  // per fan (by its first entry): the vertex it takes
+        bool first = true;
+        for (std::size_t r = 0; r < size; ++r) {
+            std::uint32_t& mine = vertex_of[fan[r]];
+            if (mine == none) {
+                mine = first ? v : copy_of(v);
+                first = false;
+            }
+            out.faces[ring[r].first][ring[r].second] = mine;
         }
     }
     return out;
