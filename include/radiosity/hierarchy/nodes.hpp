@@ -100,6 +100,25 @@ struct Hierarchy {
         return order_area[e] - order_area[b];
     }
 
+    /// Makes room for `nodes` nodes in every per-node array (appending then never copies them).
+    void reserve(std::size_t nodes) {
+        parent.reserve(nodes);
+        first_child.reserve(nodes);
+        child_count.reserve(nodes);
+        corner_count.reserve(nodes);
+        depth.reserve(nodes);
+        member_begin.reserve(nodes);
+        member_end.reserve(nodes);
+        area.reserve(nodes);
+        radius.reserve(nodes);
+        centre.reserve(nodes);
+        normal.reserve(nodes);
+        classes.reserve(nodes);
+        key.reserve(nodes);
+        corner.reserve(nodes);
+        if (has_uv) uv.reserve(nodes);
+    }
+
     /// Appends a node with no children; returns its id.
     NodeId add_node(NodeId up, std::uint32_t b, std::uint32_t e, std::uint64_t k) {
         const auto id = static_cast<NodeId>(size());
@@ -162,43 +181,57 @@ inline std::array<std::array<Vec3, 4>, 4> split_corners(std::span<const Vec3> p)
     return {{{p[0], ab, m, da}, {ab, p[1], bc, m}, {m, bc, p[2], cd}, {da, m, cd, p[3]}}};
 }
 
-/// Bounding box of the roots in positions [b, e) of h.order, and the box of their centroids.
-struct MemberBoxes {
-    Vec3 lo{1e300}, hi{-1e300}, clo{1e300}, chi{-1e300};
+/// A root as the cluster tree's median splits see it: its centroid and index, in a flat array
+/// that the splits permute in place (reading the roots' polygons at every level instead, in the
+/// permuted order, was a tenth of loading a million triangles).
+struct Member {
+    Vec3 centroid;
+    std::uint32_t root;
 };
-inline MemberBoxes member_boxes(const Hierarchy& h, std::uint32_t b, std::uint32_t e) {
-    MemberBoxes m;
-    for (std::uint32_t i = b; i < e; ++i) {
-        const std::uint32_t r = h.order[i];
-        for (const Vec3& v : h.roots.polygon(r)) {
-            m.lo = glm::min(m.lo, v);
-            m.hi = glm::max(m.hi, v);
-        }
-        m.clo = glm::min(m.clo, h.roots.centroid(r));
-        m.chi = glm::max(m.chi, h.roots.centroid(r));
-    }
-    return m;
-}
 
-/// Fills node n as the cluster of the roots in positions [b, e) of `order` and returns the
-/// position at which its two halves divide: the median of the roots' centroids along the
-/// longest axis of their box (ties by root index, so the tree never depends on the sort).
-inline std::uint32_t make_cluster(Hierarchy& h, NodeId n, std::uint32_t b, std::uint32_t e) {
-    const MemberBoxes m = member_boxes(h, b, e);
-    h.centre[n] = 0.5 * (m.lo + m.hi);
-    h.radius[n] = 0.5 * glm::length(m.hi - m.lo);
-    const Vec3 extent = m.chi - m.clo;
+/// The position at which the cluster of members [b, e) divides: the median of the members'
+/// centroids along the longest axis of their box (ties by root index, a total order, so the
+/// halves never depend on the order the members come in), members [b, mid) below it.
+inline std::uint32_t median_split(std::vector<Member>& members, std::uint32_t b, std::uint32_t e) {
+    Vec3 lo(1e300), hi(-1e300);
+    for (std::uint32_t i = b; i < e; ++i) {
+        lo = glm::min(lo, members[i].centroid);
+        hi = glm::max(hi, members[i].centroid);
+    }
+    const Vec3 extent = hi - lo;
     const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0
                      : extent.y >= extent.z                       ? 1
                                                                   : 2;
     const std::uint32_t mid = b + (e - b) / 2;
-    std::nth_element(h.order.begin() + b, h.order.begin() + mid, h.order.begin() + e,
-                     [&](std::uint32_t x, std::uint32_t y) {
-                         const double cx = h.roots.centroid(x)[axis],
-                                      cy = h.roots.centroid(y)[axis];
-                         return cx < cy || (cx == cy && x < y);
+    std::nth_element(members.begin() + b, members.begin() + mid, members.begin() + e,
+                     [axis](const Member& x, const Member& y) {
+                         const double cx = x.centroid[axis], cy = y.centroid[axis];
+                         return cx < cy || (cx == cy && x.root < y.root);
                      });
     return mid;
+}
+
+/// Centre and radius of every cluster from the box of its roots' corners, the union of its
+/// children's boxes, children (larger ids) before parents: O(nodes), each corner read once.
+inline void cluster_spheres(Hierarchy& h) {
+    std::vector<std::array<Vec3, 2>> box(h.size());
+    for (std::size_t i = h.size(); i-- > 0;) {
+        Vec3 lo(1e300), hi(-1e300);
+        if (h.is_cluster(NodeId(i))) {
+            for (const NodeId c : {h.first_child[i], h.first_child[i] + 1}) {
+                lo = glm::min(lo, box[c][0]);
+                hi = glm::max(hi, box[c][1]);
+            }
+            h.centre[i] = 0.5 * (lo + hi);
+            h.radius[i] = 0.5 * glm::length(hi - lo);
+        } else {
+            for (const Vec3& v : h.polygon(NodeId(i))) {
+                lo = glm::min(lo, v);
+                hi = glm::max(hi, v);
+            }
+        }
+        box[i] = {lo, hi};
+    }
 }
 
 }  // namespace detail
@@ -216,20 +249,22 @@ inline Hierarchy build_hierarchy(PatchTable roots, std::vector<std::uint32_t> su
     h.has_uv = !root_uvs.empty();
     const auto n = static_cast<std::uint32_t>(h.roots.size());
     if (n == 0) throw Error("hierarchical radiosity: the scene has no faces");
-    h.order.resize(n);
-    std::iota(h.order.begin(), h.order.end(), 0u);
-    // The median splits permute `order` within each range, so the prefix areas (and the
-    // clusters' areas from them) are summed once the tree is built.
+    // The median splits permute the members within each range; `order` is what they leave, so
+    // the prefix areas (and the clusters' areas from them) are summed once the tree is built.
+    std::vector<detail::Member> members(n);
+    for (std::uint32_t r = 0; r < n; ++r) members[r] = {h.roots.centroid(r), r};
     struct Pending {
         NodeId node;
         std::uint32_t b, e;
     };
+    h.reserve(h.top_nodes());
     std::vector<Pending> todo{{h.add_node(no_node, 0, n, splitmix64(1)), 0, n}};
+    todo.reserve(h.top_nodes());
     std::vector<Pending> clusters;
     for (std::size_t t = 0; t < todo.size(); ++t) {  // breadth first: todo grows as it goes
         const Pending p = todo[t];
         if (p.e - p.b == 1) continue;  // a root element, filled below
-        const std::uint32_t mid = detail::make_cluster(h, p.node, p.b, p.e);
+        const std::uint32_t mid = detail::median_split(members, p.b, p.e);
         const NodeId first = h.add_node(p.node, p.b, mid, splitmix64(h.key[p.node] * 2 + 1));
         h.add_node(p.node, mid, p.e, splitmix64(h.key[p.node] * 2 + 2));
         h.first_child[p.node] = first;
@@ -238,6 +273,8 @@ inline Hierarchy build_hierarchy(PatchTable roots, std::vector<std::uint32_t> su
         todo.push_back({first + 1, mid, p.e});
         clusters.push_back(p);
     }
+    h.order.resize(n);
+    for (std::uint32_t i = 0; i < n; ++i) h.order[i] = members[i].root;
     h.order_area.assign(n + 1, 0.0);
     for (std::uint32_t i = 0; i < n; ++i)
         h.order_area[i + 1] = h.order_area[i] + h.roots.area(h.order[i]);
@@ -259,6 +296,7 @@ inline Hierarchy build_hierarchy(PatchTable roots, std::vector<std::uint32_t> su
         };
         h.normal[i] = weighted(a) + weighted(b);
     }
+    detail::cluster_spheres(h);
     return h;
 }
 
