@@ -17,6 +17,7 @@
 #endif
 
 #include "../benchmarks/support/rooms.hpp"
+#include "support/threads.hpp"
 
 #include <doctest/doctest.h>
 
@@ -123,6 +124,37 @@ TEST_CASE("the BVH answers every occlusion query as the brute force, which tests
     }
     CHECK(disagree == 0);
     CHECK(blocked > 1000);  // both answers occur
+}
+
+TEST_CASE("the BVH's build gives the same nodes and leaf order on one thread and on two" *
+          doctest::skip(test::threads::without_openmp)) {
+    // Above 32,768 primitives the two halves of a node are built by two threads and joined;
+    // the joined tree must be the one the plain recursion lays out, box for box and index for
+    // index (a ray's walk, and so every visibility answer, follows the layout). 65,536 random
+    // boxes: two levels of joins.
+    Rng rng(7);
+    std::vector<detail::Box> boxes(65536);
+    std::vector<Vec3> centres(boxes.size());
+    for (std::size_t k = 0; k < boxes.size(); ++k) {
+        const Vec3 c(rng.uniform(), rng.uniform() * 0.5, rng.uniform() * 2.0);
+        const Vec3 half(0.01 * rng.uniform(), 0.01 * rng.uniform(), 0.01 * rng.uniform());
+        boxes[k].grow(c - half);
+        boxes[k].grow(c + half);
+        centres[k] = c;
+    }
+    int team = 0;  // what the two-thread build had
+    const auto build = [&](int threads) {
+        const test::threads::Forced forced(threads);
+        team = test::threads::team_size();
+        return build_bvh_nodes(boxes, centres);
+    };
+    const BvhNodes one = build(1), two = build(2);
+    REQUIRE(team == 2);
+    CHECK(one.order == two.order);
+    REQUIRE(one.nodes.size() == two.nodes.size());
+    CHECK(one.nodes.size() > 1000);
+    CHECK(std::memcmp(one.nodes.data(), two.nodes.data(), one.nodes.size() * sizeof(BvhNode)) ==
+          0);
 }
 
 TEST_CASE("the BVH's box walk visits exactly the triangles whose boxes an accepting test admits") {

@@ -6,6 +6,7 @@
 /// O(n log n) time, O(n) memory.
 
 #include <radiosity/config.hpp>
+#include <radiosity/detail/parallel.hpp>
 #include <radiosity/error.hpp>
 #include <radiosity/geometry/bvh/tree.hpp>
 #include <radiosity/geometry/vec.hpp>
@@ -71,19 +72,70 @@ class BinnedSahBuild {
         for (std::size_t k = 0; k < order_.size(); ++k) order_[k] = static_cast<std::uint32_t>(k);
     }
 
-    /// The binary tree, nodes[0] its root (primitives must be non-empty).
+    /// The binary tree, nodes[0] its root (primitives must be non-empty). The two halves of a
+    /// large node are built at once by two threads (subtree), with the nodes and the leaf
+    /// order that build_node alone gives.
     std::vector<BuildNode> run() {
         RADIOSITY_ASSERT(!order_.empty());
+        const auto n = static_cast<std::uint32_t>(order_.size());
+        if (n < parallel_subtree || thread_count() < 2) {
+            std::vector<BuildNode> nodes;
+            nodes.reserve(2 * order_.size());
+            nodes.push_back({});
+            build_node(nodes, 0, 0, n, 0);
+            return nodes;
+        }
         std::vector<BuildNode> nodes;
-        nodes.reserve(2 * order_.size());
-        nodes.push_back({});
-        build_node(nodes, 0, 0, static_cast<std::uint32_t>(order_.size()), 0);
+#if defined(RADIOSITY_WITH_OPENMP)
+#pragma omp parallel
+#pragma omp single
+#endif
+        nodes = subtree(0, n, 0);
         return nodes;
     }
     /// The primitives in leaf order (after run).
     std::vector<std::uint32_t>& order() { return order_; }
 
   private:
+    /// Nodes of at least this many primitives have their two halves built by two threads.
+    static constexpr std::uint32_t parallel_subtree = 1u << 15;
+
+    /// The nodes build_node makes for primitives [first, first + count) at `depth`, numbered
+    /// from 0 (the subtree's root): a large node's halves as two OpenMP tasks, each into its
+    /// own vector, then joined as build_node lays them out (the root, its first child's
+    /// subtree, its second's), every inner node's second-child index moved by where its
+    /// subtree lands. Each task partitions only its own range of order_.
+    std::vector<BuildNode> subtree(std::uint32_t first, std::uint32_t count, int depth) {
+        std::vector<BuildNode> nodes(1);
+        if (count < parallel_subtree) {
+            nodes.reserve(2 * std::size_t(count));
+            build_node(nodes, 0, first, count, depth);
+            return nodes;
+        }
+        const std::uint32_t mid = split_node(nodes[0], first, count, depth);
+        if (nodes[0].count > 0) return nodes;  // a leaf after all
+        std::vector<BuildNode> left, right;
+#if defined(RADIOSITY_WITH_OPENMP)
+#pragma omp task shared(left)
+#endif
+        left = subtree(first, mid - first, depth + 1);
+        right = subtree(mid, first + count - mid, depth + 1);
+#if defined(RADIOSITY_WITH_OPENMP)
+#pragma omp taskwait
+#endif
+        const auto join = [&nodes](const std::vector<BuildNode>& part) {
+            const auto at = static_cast<std::uint32_t>(nodes.size());
+            for (BuildNode b : part) {
+                if (b.count == 0) b.first += at;  // an inner node's second child
+                nodes.push_back(b);
+            }
+            return at;
+        };
+        join(left);
+        nodes[0].first = join(right);
+        return nodes;
+    }
+
     const Box& box_of(std::uint32_t k) const { return boxes_[order_[k]]; }
     const Vec3& centre_of(std::uint32_t k) const { return centres_[order_[k]]; }
 
@@ -92,25 +144,36 @@ class BinnedSahBuild {
     /// children split at the best binned SAH plane. Recursion depth is O(log n) for sane scenes.
     void build_node(std::vector<BuildNode>& nodes, std::size_t index, std::uint32_t first,
                     std::uint32_t count, int depth) {
-        Box box, centres;
-        for (std::uint32_t k = first; k < first + count; ++k) {
-            box.grow(box_of(k));
-            centres.grow(centre_of(k));
-        }
-        nodes[index] = {box, first, count};  // a leaf unless split below
-        if (count <= static_cast<std::uint32_t>(options_.max_leaf_size) || depth >= bvh_max_depth)
-            return;  // small enough for a leaf: no split to look for
-        const Split s = best_split(first, count, centres, box.half_area());
-        if (s.axis < 0) return;
-        if (!(s.cost < leaf_blocks(count)) && count <= 16) return;  // SAH: the leaf is cheaper
-        const std::uint32_t mid = partition(first, count, centres, s);
-        if (mid == first || mid == first + count) return;
-        nodes[index].count = 0;
+        const std::uint32_t mid = split_node(nodes[index], first, count, depth);
+        if (nodes[index].count > 0) return;
         nodes.push_back({});  // first child right after its parent
         build_node(nodes, index + 1, first, mid - first, depth + 1);
         nodes[index].first = static_cast<std::uint32_t>(nodes.size());
         nodes.push_back({});
         build_node(nodes, nodes[index].first, mid, first + count - mid, depth + 1);
+    }
+
+    /// Sets `node` over primitives [first, first + count): a leaf (count > 0) when it is small
+    /// enough, when no split beats testing every block, or at depth bvh_max_depth; else an inner
+    /// node (count 0) whose primitives are partitioned at the best binned SAH plane. Returns
+    /// where the second half starts.
+    std::uint32_t split_node(BuildNode& node, std::uint32_t first, std::uint32_t count,
+                             int depth) {
+        Box box, centres;
+        for (std::uint32_t k = first; k < first + count; ++k) {
+            box.grow(box_of(k));
+            centres.grow(centre_of(k));
+        }
+        node = {box, first, count};  // a leaf unless split below
+        if (count <= static_cast<std::uint32_t>(options_.max_leaf_size) || depth >= bvh_max_depth)
+            return first;  // small enough for a leaf: no split to look for
+        const Split s = best_split(first, count, centres, box.half_area());
+        if (s.axis < 0) return first;
+        if (!(s.cost < leaf_blocks(count)) && count <= 16) return first;  // the leaf is cheaper
+        const std::uint32_t mid = partition(first, count, centres, s);
+        if (mid == first || mid == first + count) return first;
+        node.count = 0;
+        return mid;
     }
 
     /// Moves the primitives of [first, first + count) left of the split first; returns where
@@ -136,24 +199,35 @@ class BinnedSahBuild {
                      double parent_area) const {
         Split best;
         if (!(parent_area > 0.0)) return best;
+        // The bins of all three axes in one pass over the primitives (one read of each box).
+        const std::size_t nb = static_cast<std::size_t>(options_.bins);
+        std::vector<Box> bin_box(3 * nb);
+        std::vector<std::uint32_t> bin_count(3 * nb, 0);
+        std::array<bool, 3> spread{};
+        for (int axis = 0; axis < 3; ++axis) spread[axis] = centres.hi[axis] > centres.lo[axis];
+        for (std::uint32_t k = first; k < first + count; ++k) {
+            const Box& b = box_of(k);
+            const Vec3& c = centre_of(k);
+            for (int axis = 0; axis < 3; ++axis) {
+                if (!spread[axis]) continue;
+                const std::size_t at = std::size_t(axis) * nb + std::size_t(bin_of(c, centres, axis));
+                bin_box[at].grow(b);
+                ++bin_count[at];
+            }
+        }
         for (int axis = 0; axis < 3; ++axis)
-            if (centres.hi[axis] > centres.lo[axis])
-                best_split_along(axis, first, count, centres, parent_area, best);
+            if (spread[axis])
+                best_split_along(axis, {bin_box.data() + axis * nb, nb},
+                                 {bin_count.data() + axis * nb, nb}, count, parent_area, best);
         return best;
     }
 
-    /// best_split along one axis: bin the centroids, sweep the bins from the right to get each
-    /// plane's right-side cost, then from the left, keeping a plane cheaper than `best`.
-    void best_split_along(int axis, std::uint32_t first, std::uint32_t count, const Box& centres,
+    /// best_split along one axis, from its bins: sweep them from the right to get each plane's
+    /// right-side cost, then from the left, keeping a plane cheaper than `best`.
+    void best_split_along(int axis, std::span<const Box> bin_box,
+                          std::span<const std::uint32_t> bin_count, std::uint32_t count,
                           double parent_area, Split& best) const {
-        const std::size_t nb = static_cast<std::size_t>(options_.bins);
-        std::vector<Box> bin_box(nb);
-        std::vector<std::uint32_t> bin_count(nb, 0);
-        for (std::uint32_t k = first; k < first + count; ++k) {
-            const auto b = static_cast<std::size_t>(bin_of(centre_of(k), centres, axis));
-            bin_box[b].grow(box_of(k));
-            ++bin_count[b];
-        }
+        const std::size_t nb = bin_box.size();
         std::vector<double> right_cost(nb, 0.0);
         Box acc;
         std::uint32_t n = 0;
