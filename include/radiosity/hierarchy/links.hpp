@@ -17,8 +17,10 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numbers>
 #include <optional>
+#include <span>
 #include <vector>
 
 namespace radiosity {
@@ -138,10 +140,39 @@ namespace detail {
 /// F_dA(x)->larger steps across the smaller element, which a fixed rule serves badly.
 inline constexpr AnalyticOptions near_exchange{.tolerance = 1e-2, .max_depth = 3};
 
+/// Whether the edges of convex polygon b (counter-clockwise about its unit normal nb), seen in
+/// b's plane, come within `margin` of polygon a's projection onto that plane: not where the
+/// projection lies inside b at least `margin` from every edge's line, nor where it lies beyond
+/// one edge's line by at least `margin`. Cost: O(corners of a x corners of b).
+inline bool edges_near(std::span<const Vec3> a, std::span<const Vec3> b, const Vec3& nb,
+                       double margin) {
+    bool inside = true;
+    for (std::size_t k = 0; k < b.size(); ++k) {
+        const Vec3 inward = glm::normalize(glm::cross(nb, b[(k + 1) % b.size()] - b[k]));
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (const Vec3& q : a) {
+            const double d = glm::dot(q - b[k], inward);  // signed distance to the edge's line
+            lo = std::min(lo, d);
+            hi = std::max(hi, d);
+        }
+        if (hi <= -margin) return false;  // clear of b beyond this edge
+        inside = inside && lo >= margin;
+    }
+    return !inside;
+}
+
 /// How element_transfer integrates a near pair: over `outer`, the smaller element (ties by id,
 /// so that (r, s) and (s, r) give one number, A_r F_rs = A_s F_sr), toward `inner`; by adaptive
-/// quadrature with Accuracy::full where the outer's centroid lies within half its radius of the
-/// inner's plane (`quadrature`), by the 7-point rule otherwise.
+/// quadrature with Accuracy::full (`quadrature`) where the rule fails, by the 7-point rule
+/// otherwise. The rule fails where F_dA(x)->inner steps across the outer element: where x, near
+/// the inner's plane, passes the prism over the inner's edges. So the quadrature takes the
+/// pairs whose outer centroid lies within half the outer's radius of the inner's plane and
+/// whose outer projection onto that plane comes within one outer radius of the inner's edges
+/// (edges_near). Random triangles near the plane of a unit square, 200,000 pairs against
+/// exchange_integral at 1e-7: where the projection kept clear of the edges by the radius, the
+/// rule was within 0.27% (inside the square, 0.00%); where the edges passed through it, off by
+/// up to 98%, and by more than 1% in 41% of pairs. (Room3: the clear pairs were two thirds of
+/// those near a plane, 40% of the quadrature's contour integrals.)
 struct NearPair {
     NodeId outer, inner;
     bool quadrature;
@@ -150,7 +181,9 @@ inline NearPair near_pair(const Hierarchy& h, NodeId r, NodeId s) {
     const bool over_r = h.area[r] < h.area[s] || (h.area[r] == h.area[s] && r < s);
     const NodeId a = over_r ? r : s, b = over_r ? s : r;
     const double height = std::abs(glm::dot(h.centre[a] - h.polygon(b)[0], h.normal[b]));
-    return {a, b, height < 0.5 * h.radius[a]};
+    return {a, b,
+            height < 0.5 * h.radius[a] &&
+                edges_near(h.polygon(a), h.polygon(b), h.normal[b], h.radius[a])};
 }
 
 /// Element to element: the form factor F_rs from the exchange integral A_r F_rs of Lambert's
@@ -165,8 +198,9 @@ inline NearPair near_pair(const Hierarchy& h, NodeId r, NodeId s) {
 /// square against a wall it touches: 0.002%); it fails where the smaller lies close and nearly
 /// parallel to the larger, so that the larger's edge casts a step in F_dA over it (unit squares
 /// 0.05 apart: 3%; edge to edge and 0.05 apart: 32%). So the quadrature takes the pairs whose
-/// smaller element's centroid lies within half its radius of the larger's plane, the rule the
-/// rest (the quadrature is five times the rule's cost, and these are a few of the near pairs).
+/// smaller element lies close to the larger's plane with the larger's edges passing by it
+/// (near_pair), the rule the rest (the quadrature is five times the rule's cost, and these are
+/// a few of the near pairs).
 /// Accuracy::estimate (what the oracle judges a new link by) takes the rule for every near pair.
 /// 0 if either lies wholly behind the other.
 inline Transfer element_transfer(const Hierarchy& h, NodeId r, NodeId s,
