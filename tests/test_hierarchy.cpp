@@ -599,8 +599,10 @@ TEST_CASE("a near pair takes the 7-point rule where the larger's edges keep clea
     for (int i = 0; i < 4000; ++i) {
         const double size = 0.02 + 0.5 * rng.uniform();
         const Vec3 at(-0.5 + 2.0 * rng.uniform(), -0.5 + 2.0 * rng.uniform(), 0.0);
-        const Vec3 n = glm::normalize(Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, -rng.uniform()));
-        const Vec3 t1 = glm::normalize(glm::cross(n, std::abs(n.x) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0)));
+        const Vec3 n =
+            glm::normalize(Vec3(rng.uniform() - 0.5, rng.uniform() - 0.5, -rng.uniform()));
+        const Vec3 t1 =
+            glm::normalize(glm::cross(n, std::abs(n.x) < 0.9 ? Vec3(1, 0, 0) : Vec3(0, 1, 0)));
         const Vec3 t2 = glm::cross(n, t1);
         const double turn = 2.0 * std::numbers::pi * rng.uniform();
         std::vector<Vec3> tri;
@@ -608,10 +610,12 @@ TEST_CASE("a near pair takes the 7-point rule where the larger's edges keep clea
             const double angle = turn + k * 2.0 * std::numbers::pi / 3.0;
             tri.push_back(at + size * (std::cos(angle) * t1 + std::sin(angle) * t2));
         }
-        if (glm::dot(glm::cross(tri[1] - tri[0], tri[2] - tri[0]), n) < 0.0) std::swap(tri[1], tri[2]);
+        if (glm::dot(glm::cross(tri[1] - tri[0], tri[2] - tri[0]), n) < 0.0)
+            std::swap(tri[1], tri[2]);
         const Vec3 c = polygon_centroid(std::span<const Vec3>(tri));
         double radius = 0.0, lowest = 1e300;
-        for (const Vec3& v : tri) radius = std::max(radius, glm::length(v - c)), lowest = std::min(lowest, v.z);
+        for (const Vec3& v : tri)
+            radius = std::max(radius, glm::length(v - c)), lowest = std::min(lowest, v.z);
         const double lift = -lowest + 0.3 * radius * rng.uniform();  // above the plane, or on it
         for (Vec3& v : tri) v.z += lift;
         if (!(c.z + lift < 0.5 * radius)) continue;

@@ -153,8 +153,7 @@ TEST_CASE("the BVH's build gives the same nodes and leaf order on one thread and
     CHECK(one.order == two.order);
     REQUIRE(one.nodes.size() == two.nodes.size());
     CHECK(one.nodes.size() > 1000);
-    CHECK(std::memcmp(one.nodes.data(), two.nodes.data(), one.nodes.size() * sizeof(BvhNode)) ==
-          0);
+    CHECK(std::memcmp(one.nodes.data(), two.nodes.data(), one.nodes.size() * sizeof(BvhNode)) == 0);
 }
 
 TEST_CASE("the BVH's box walk visits exactly the triangles whose boxes an accepting test admits") {

@@ -60,6 +60,31 @@ inline double leaf_blocks(std::uint32_t n) {
     return static_cast<double>((n + 3) / 4);
 }
 
+/// Runs f on one thread of a new OpenMP team, whose other threads take the tasks it makes
+/// (both); on the calling thread alone without OpenMP.
+template <class F>
+void with_tasks(F&& f) {
+#if defined(RADIOSITY_WITH_OPENMP)
+#pragma omp parallel
+#pragma omp single
+#endif
+    f();
+}
+
+/// Runs a as an OpenMP task and b on this thread, and returns when both are done; one after
+/// the other without OpenMP. Inside with_tasks, another thread of the team takes a.
+template <class A, class B>
+void both(A&& a, B&& b) {
+#if defined(RADIOSITY_WITH_OPENMP)
+#pragma omp task shared(a)
+#endif
+    a();
+    b();
+#if defined(RADIOSITY_WITH_OPENMP)
+#pragma omp taskwait
+#endif
+}
+
 /// The binned SAH build of the binary tree (Wald 2007): at each node, the centroids are sorted
 /// into bins along each axis, the bins swept from both sides accumulating boxes and counts, and
 /// the cheapest plane kept, unless testing every block of the node as a leaf is cheaper.
@@ -86,11 +111,7 @@ class BinnedSahBuild {
             return nodes;
         }
         std::vector<BuildNode> nodes;
-#if defined(RADIOSITY_WITH_OPENMP)
-#pragma omp parallel
-#pragma omp single
-#endif
-        nodes = subtree(0, n, 0);
+        with_tasks([&] { nodes = subtree(0, n, 0); });
         return nodes;
     }
     /// The primitives in leaf order (after run).
@@ -115,14 +136,8 @@ class BinnedSahBuild {
         const std::uint32_t mid = split_node(nodes[0], first, count, depth);
         if (nodes[0].count > 0) return nodes;  // a leaf after all
         std::vector<BuildNode> left, right;
-#if defined(RADIOSITY_WITH_OPENMP)
-#pragma omp task shared(left)
-#endif
-        left = subtree(first, mid - first, depth + 1);
-        right = subtree(mid, first + count - mid, depth + 1);
-#if defined(RADIOSITY_WITH_OPENMP)
-#pragma omp taskwait
-#endif
+        both([&] { left = subtree(first, mid - first, depth + 1); },
+             [&] { right = subtree(mid, first + count - mid, depth + 1); });
         const auto join = [&nodes](const std::vector<BuildNode>& part) {
             const auto at = static_cast<std::uint32_t>(nodes.size());
             for (BuildNode b : part) {
@@ -157,8 +172,7 @@ class BinnedSahBuild {
     /// enough, when no split beats testing every block, or at depth bvh_max_depth; else an inner
     /// node (count 0) whose primitives are partitioned at the best binned SAH plane. Returns
     /// where the second half starts.
-    std::uint32_t split_node(BuildNode& node, std::uint32_t first, std::uint32_t count,
-                             int depth) {
+    std::uint32_t split_node(BuildNode& node, std::uint32_t first, std::uint32_t count, int depth) {
         Box box, centres;
         for (std::uint32_t k = first; k < first + count; ++k) {
             box.grow(box_of(k));
@@ -210,7 +224,8 @@ class BinnedSahBuild {
             const Vec3& c = centre_of(k);
             for (int axis = 0; axis < 3; ++axis) {
                 if (!spread[axis]) continue;
-                const std::size_t at = std::size_t(axis) * nb + std::size_t(bin_of(c, centres, axis));
+                const std::size_t at =
+                    std::size_t(axis) * nb + std::size_t(bin_of(c, centres, axis));
                 bin_box[at].grow(b);
                 ++bin_count[at];
             }
