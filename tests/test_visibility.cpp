@@ -131,7 +131,7 @@ TEST_CASE("the BVH's build gives the same nodes and leaf order on one thread and
     // Above 32,768 primitives the two halves of a node are built by two threads and joined;
     // the joined tree must be the one the plain recursion lays out, box for box and index for
     // index (a ray's walk, and so every visibility answer, follows the layout). 65,536 random
-    // boxes: two levels of joins.
+    // boxes: the top's halves built apart and joined.
     Rng rng(7);
     std::vector<detail::Box> boxes(65536);
     std::vector<Vec3> centres(boxes.size());

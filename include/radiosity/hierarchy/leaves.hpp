@@ -123,13 +123,15 @@ inline LeafPolygons leaf_polygons(const Hierarchy& h) {
         if (at == next) out.points.push_back(p);
         return at;
     };
+    std::vector<std::uint32_t> corner_points;  // of every leaf's corners, leaf after leaf
     for (NodeId n = 0; n < h.size(); ++n)
         if (!h.is_cluster(n) && h.is_leaf(n)) {
             out.leaf.push_back(n);
-            for (const Vec3& v : h.polygon(n)) point(v);
+            for (const Vec3& v : h.polygon(n)) corner_points.push_back(point(v));
         }
     out.face.resize(out.leaf.size());
     out.uv.resize(out.leaf.size());
+    std::size_t next_corner = 0;
     for (std::size_t f = 0; f < out.leaf.size(); ++f) {
         const NodeId n = out.leaf[f];
         const auto p = h.polygon(n);
@@ -139,7 +141,7 @@ inline LeafPolygons leaf_polygons(const Hierarchy& h) {
         auto& uv = out.uv[f];
         for (std::size_t k = 0; k < p.size(); ++k) {
             const std::size_t next = (k + 1) % p.size();
-            corners.push_back(index.find(detail::point_key(p[k])));
+            corners.push_back(corner_points[next_corner++]);
             uv.emplace_back(u[k].x, u[k].y);
             detail::hanging_points(p[k], p[next], u[k], u[next], 32, index, corners, uv);
         }

@@ -5,10 +5,13 @@
 /// "bow-tie"), and OpenMesh's add_face may even abort on some of those. Scenes from files have
 /// all of them, so faces and vertices are split here, where it is cheap and always works.
 
+#include <radiosity/config.hpp>
+
 #include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <numeric>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -23,19 +26,35 @@ struct ManifoldFaces {
 
 namespace detail {
 
-/// Lists of items per vertex in flat storage (compressed rows): the items of vertex v are
-/// item[begin[v], begin[v + 1]). Rows are sized by a first count, so filling them never
-/// allocates; a million-face soup made a million small vectors (and, in the std::set and
-/// std::map this replaced, six million tree nodes), and was a fifth of loading it.
+/// Lists of items per vertex in flat storage (compressed rows): vertex v's row holds up to
+/// capacity[v] items, of which the first filled(v) are pushed so far. Rows are sized by a
+/// first count, so filling them never allocates; a million-face soup made a million small
+/// vectors (and, in the std::set and std::map this replaced, millions of tree nodes), and was
+/// a fifth of loading it.
 template <class Item>
-struct VertexRows {
-    std::vector<std::size_t> begin;
-    std::vector<Item> item;
-    /// Rows of capacity[v] items each.
-    explicit VertexRows(const std::vector<std::size_t>& capacity) : begin(capacity.size() + 1, 0) {
-        for (std::size_t v = 0; v < capacity.size(); ++v) begin[v + 1] = begin[v] + capacity[v];
-        item.resize(begin.back());
+class VertexRows {
+  public:
+    /// Empty rows of capacity[v] items each.
+    explicit VertexRows(const std::vector<std::size_t>& capacity)
+        : begin_(capacity.size() + 1, 0), filled_(capacity.size(), 0) {
+        for (std::size_t v = 0; v < capacity.size(); ++v) begin_[v + 1] = begin_[v] + capacity[v];
+        item_.resize(begin_.back());
     }
+    std::size_t rows() const { return filled_.size(); }  ///< vertices
+    /// Appends x to row v (within its capacity); returns where it went.
+    Item& push(std::size_t v, const Item& x) {
+        RADIOSITY_ASSERT(begin_[v] + filled_[v] < begin_[v + 1]);
+        return item_[begin_[v] + filled_[v]++] = x;
+    }
+    std::span<Item> row(std::size_t v) { return {item_.data() + begin_[v], filled_[v]}; }
+    std::span<const Item> row(std::size_t v) const {
+        return {item_.data() + begin_[v], filled_[v]};
+    }
+
+  private:
+    std::vector<std::size_t> begin_;
+    std::vector<std::uint32_t> filled_;
+    std::vector<Item> item_;
 };
 
 /// The edges of the faces kept so far by make_manifold's first step, each undirected edge in
@@ -47,21 +66,17 @@ class EdgeUses {
   public:
     /// Room for the edges of `faces` over `vertex_count` vertices.
     EdgeUses(const std::vector<std::vector<std::uint32_t>>& faces, std::size_t vertex_count)
-        : used_(vertex_count, 0), rows_(edge_capacity(faces, vertex_count)) {}
+        : rows_(edge_capacity(faces, vertex_count)) {}
 
     /// Whether a face may run from a to b: no kept face runs that way and fewer than two use it.
-    bool fits(std::uint32_t a, std::uint32_t b) const {
+    bool fits(std::uint32_t a, std::uint32_t b) {
         const Edge* e = find(a, b);
         return e == nullptr || (e->uses < 2 && (e->directions & direction(a, b)) == 0);
     }
     /// Records a kept face's edge from a to b.
     void add(std::uint32_t a, std::uint32_t b) {
         Edge* e = find(a, b);
-        if (e == nullptr) {
-            const std::uint32_t low = std::min(a, b);
-            e = &rows_.item[rows_.begin[low] + used_[low]++];
-            e->other = std::max(a, b);
-        }
+        if (e == nullptr) e = &rows_.push(std::min(a, b), {std::max(a, b), 0, 0});
         ++e->uses;
         e->directions |= direction(a, b);
     }
@@ -80,18 +95,13 @@ class EdgeUses {
                 ++capacity[std::min(f[k], f[(k + 1) % f.size()])];
         return capacity;
     }
-    const Edge* find(std::uint32_t a, std::uint32_t b) const {
-        const std::uint32_t low = std::min(a, b), high = std::max(a, b);
-        const Edge* row = rows_.item.data() + rows_.begin[low];
-        for (std::uint32_t i = 0; i < used_[low]; ++i)
-            if (row[i].other == high) return row + i;
+    Edge* find(std::uint32_t a, std::uint32_t b) {
+        const std::uint32_t high = std::max(a, b);
+        for (Edge& e : rows_.row(std::min(a, b)))
+            if (e.other == high) return &e;
         return nullptr;
     }
-    Edge* find(std::uint32_t a, std::uint32_t b) {
-        return const_cast<Edge*>(std::as_const(*this).find(a, b));
-    }
 
-    std::vector<std::uint32_t> used_;  // edges in each row so far
     VertexRows<Edge> rows_;
 };
 
@@ -102,9 +112,10 @@ class EdgeUses {
 /// neighbour: sorting the (neighbour, entry) pairs puts those side by side). `scratch` is
 /// reused between vertices.
 inline void fans_around(const std::vector<std::vector<std::uint32_t>>& faces,
-                        const std::pair<std::uint32_t, std::uint32_t>* ring, std::size_t size,
+                        std::span<const std::pair<std::uint32_t, std::uint32_t>> ring,
                         std::vector<std::uint32_t>& fan,
                         std::vector<std::pair<std::uint32_t, std::uint32_t>>& scratch) {
+    const auto size = static_cast<std::uint32_t>(ring.size());
     fan.resize(size);
     std::iota(fan.begin(), fan.end(), std::uint32_t{0});
     auto find = [&](std::uint32_t x) {
@@ -167,24 +178,20 @@ inline ManifoldFaces make_manifold(const std::vector<std::vector<std::uint32_t>>
     for (const auto& f : out.faces)
         for (const std::uint32_t v : f) ++corners[v];
     detail::VertexRows<std::pair<std::uint32_t, std::uint32_t>> around(corners);
-    std::fill(corners.begin(), corners.end(), 0);  // now: entries filled per row
     for (std::size_t f = 0; f < out.faces.size(); ++f)
-        for (std::size_t k = 0; k < out.faces[f].size(); ++k) {
-            const std::uint32_t v = out.faces[f][k];
-            around.item[around.begin[v] + corners[v]++] = {std::uint32_t(f), std::uint32_t(k)};
-        }
+        for (std::size_t k = 0; k < out.faces[f].size(); ++k)
+            around.push(out.faces[f][k], {std::uint32_t(f), std::uint32_t(k)});
     constexpr std::uint32_t none = std::numeric_limits<std::uint32_t>::max();
     std::vector<std::uint32_t> fan, vertex_of;
     std::vector<std::pair<std::uint32_t, std::uint32_t>> scratch;
-    const auto vertices = static_cast<std::uint32_t>(around.begin.size() - 1);
+    const auto vertices = static_cast<std::uint32_t>(around.rows());
     for (std::uint32_t v = 0; v < vertices; ++v) {
-        const std::size_t size = around.begin[v + 1] - around.begin[v];
-        if (size < 2) continue;
-        const auto* ring = around.item.data() + around.begin[v];
-        detail::fans_around(out.faces, ring, size, fan, scratch);
-        vertex_of.assign(size, none);  // per fan (by its first entry): the vertex it takes
+        const auto ring = std::as_const(around).row(v);
+        if (ring.size() < 2) continue;
+        detail::fans_around(out.faces, ring, fan, scratch);
+        vertex_of.assign(ring.size(), none);  // per fan (by its first entry): the vertex it takes
         bool first = true;
-        for (std::size_t r = 0; r < size; ++r) {
+        for (std::size_t r = 0; r < ring.size(); ++r) {
             std::uint32_t& mine = vertex_of[fan[r]];
             if (mine == none) {
                 mine = first ? v : copy_of(v);

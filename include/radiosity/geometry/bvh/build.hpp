@@ -103,13 +103,7 @@ class BinnedSahBuild {
     std::vector<BuildNode> run() {
         RADIOSITY_ASSERT(!order_.empty());
         const auto n = static_cast<std::uint32_t>(order_.size());
-        if (n < parallel_subtree || thread_count() < 2) {
-            std::vector<BuildNode> nodes;
-            nodes.reserve(2 * order_.size());
-            nodes.push_back({});
-            build_node(nodes, 0, 0, n, 0);
-            return nodes;
-        }
+        if (n < parallel_subtree || thread_count() < 2) return plain(0, n, 0);
         std::vector<BuildNode> nodes;
         with_tasks([&] { nodes = subtree(0, n, 0); });
         return nodes;
@@ -127,12 +121,8 @@ class BinnedSahBuild {
     /// subtree, its second's), every inner node's second-child index moved by where its
     /// subtree lands. Each task partitions only its own range of order_.
     std::vector<BuildNode> subtree(std::uint32_t first, std::uint32_t count, int depth) {
+        if (count < parallel_subtree) return plain(first, count, depth);
         std::vector<BuildNode> nodes(1);
-        if (count < parallel_subtree) {
-            nodes.reserve(2 * std::size_t(count));
-            build_node(nodes, 0, first, count, depth);
-            return nodes;
-        }
         const std::uint32_t mid = split_node(nodes[0], first, count, depth);
         if (nodes[0].count > 0) return nodes;  // a leaf after all
         std::vector<BuildNode> left, right;
@@ -148,6 +138,16 @@ class BinnedSahBuild {
         };
         join(left);
         nodes[0].first = join(right);
+        return nodes;
+    }
+
+    /// The nodes of build_node's plain recursion over primitives [first, first + count) at
+    /// `depth`, numbered from 0.
+    std::vector<BuildNode> plain(std::uint32_t first, std::uint32_t count, int depth) {
+        std::vector<BuildNode> nodes;
+        nodes.reserve(2 * std::size_t(count));
+        nodes.push_back({});
+        build_node(nodes, 0, first, count, depth);
         return nodes;
     }
 
