@@ -344,19 +344,26 @@ inline Vec3 polygon_point(std::span<const Vec3> p, double u, double v) {
     return (1.0 - s) * p[0] + s * (1.0 - v) * p[t + 1] + s * v * p[t + 2];
 }
 
-/// A uniform random point on node n, by area over a cluster's roots, and the root it lies on.
+/// A root of cluster n picked with probability proportional to its area: the one whose span
+/// of the prefix sums (Hierarchy::order_area) holds a uniform draw. One random number.
+inline std::uint32_t uniform_root(const Hierarchy& h, NodeId n, Rng& rng) {
+    const double a = h.order_area[h.member_begin[n]] + rng.uniform() * h.area[n];
+    const auto first = h.order_area.begin() + h.member_begin[n] + 1,
+               last = h.order_area.begin() + h.member_end[n];
+    const auto pos =
+        static_cast<std::uint32_t>(std::upper_bound(first, last, a) - h.order_area.begin() - 1);
+    return h.order[std::min(pos, h.member_end[n] - 1)];
+}
+
+/// A uniform random point on node n, by area over a cluster's roots (uniform_root), and the
+/// root it lies on. Three random numbers for a cluster, two for an element.
 inline Vec3 uniform_point(const Hierarchy& h, NodeId n, Rng& rng, std::uint32_t& root) {
     if (!h.is_cluster(n)) {
         root = h.root_of(n);
         const double u = rng.uniform();
         return polygon_point(h.polygon(n), u, rng.uniform());
     }
-    const double a = h.order_area[h.member_begin[n]] + rng.uniform() * h.area[n];
-    const auto first = h.order_area.begin() + h.member_begin[n] + 1,
-               last = h.order_area.begin() + h.member_end[n];
-    const auto pos =
-        static_cast<std::uint32_t>(std::upper_bound(first, last, a) - h.order_area.begin() - 1);
-    root = h.order[std::min(pos, h.member_end[n] - 1)];
+    root = uniform_root(h, n, rng);
     const double u = rng.uniform();
     return polygon_point(h.roots.polygon(root), u, rng.uniform());
 }
@@ -423,8 +430,11 @@ class FaceChoice {
     /// A face of s, and the probability it was picked with.
     std::uint32_t pick(Rng& rng, double& probability) const {
         if (by_area_) {
-            std::uint32_t root = 0;
-            uniform_point(h_, s_, rng, root);
+            // The draws of uniform_point, whose point is not needed: the same stream (and so
+            // the same links, bit for bit) without the point's arithmetic.
+            const std::uint32_t root = uniform_root(h_, s_, rng);
+            rng.uniform();
+            rng.uniform();
             probability = h_.roots.area(root) / h_.area[s_];
             return root;
         }

@@ -551,8 +551,9 @@ void refine_round(Hierarchy& h, const V& scene, RefineRound& round, const Refine
     for (const SharedSplit& x : shared)
         apply_verdict(h, x.link, Verdict(x.verdict), unused, fresh, ours);
     for (const NodePair& p : fresh) b.tasks.push_back({p.receiver, p.source, 0.0f, unopened});
-    for (const Link& t : b.tasks)  // the work, where the next partition will weigh it
-        share.cost[h.member_begin[t.receiver]] += evaluation_cost(h, t, s);
+    if (ranks)  // the work, where the next partition will weigh it (one rank has no other)
+        for (const Link& t : b.tasks)
+            share.cost[h.member_begin[t.receiver]] += evaluation_cost(h, t, s);
     evaluate_shared(h, scene, b.tasks, s, share, b.evaluated);
     settle_evaluated(h, s, b, frontier, round.done);
     std::array<std::uint64_t, 3> totals{splits, frontier.size(), round.done.size()};
