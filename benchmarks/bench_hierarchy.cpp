@@ -47,6 +47,7 @@ using radiosity::Rgb;
 struct Row {
     double seconds = 0.0, peak_mb = 0.0;
     std::size_t elements = 0, links = 0, leaves = 0;
+    std::size_t held = 0;  ///< leaves whose row sums the last pass held (its sweeps ran away)
     /// Per-material means (mean of the bands) of materials 0..4: the million test's white, red
     /// and green; room3's walls, table, teapot, lamps and shades.
     std::array<double, 5> mean{};
@@ -93,6 +94,7 @@ Row solve_row(const radiosity::Mesh<Rgb>& scene, radiosity::SolveOptions o,
     if (r.hierarchy) {
         row.elements = r.hierarchy->elements;
         row.links = r.hierarchy->links;
+        row.held = r.hierarchy->held_rows;
     }
     for (std::uint32_t m = 0; m < row.mean.size(); ++m)
         row.mean[m] = bench::material_mean(r.mesh, m);
@@ -249,6 +251,9 @@ int million(const std::string& obj_path, double edge, double link_error, double 
                     x.seconds, x.peak_mb, x.elements, x.links,
                     x.elements ? double(x.links) / double(x.elements) : 0.0, x.leaves, x.mean[0],
                     x.mean[1], x.mean[2]);
+    if (r.held + few.held + ref.held > 0)
+        std::printf("the sweeps ran away and were held (leaves held: %zu, %zu, %zu)\n", r.held,
+                    few.held, ref.held);
     std::printf("tessellated vs few faces: white %+.2f %%, red %+.2f %%, green %+.2f %%\n",
                 100.0 * (r.mean[0] / few.mean[0] - 1.0), 100.0 * (r.mean[1] / few.mean[1] - 1.0),
                 100.0 * (r.mean[2] / few.mean[2] - 1.0));

@@ -226,6 +226,12 @@ void print_summary(const radiosity::SolveResult<Colour>& r, const std::string& f
                      r.patches.size(), h.elements, h.links, h.links_per_element(), h.clusters,
                      double(h.bytes) / 1e6, h.refine_seconds, h.passes, report.iterations,
                      report.residual, state, report.seconds, seconds, wrote.c_str());
+        if (h.held_rows > 0)
+            std::fprintf(stderr,
+                         "radiosity: the sweeps ran away: the links' estimated transfers gave %zu "
+                         "leaves more light than any surface can gather; those were held to the "
+                         "most (row sums of 1) and the sweeps started again\n",
+                         h.held_rows);
         if (h.ranks > 1)
             std::fprintf(stderr,
                          "%d ranks: rank 0 judged and evaluated links %.2f s of the refinement's "

@@ -95,6 +95,9 @@ struct HierarchyReport {
     /// Load imbalance: the busiest rank's time judging, evaluating and gathering links over
     /// the mean (1: balanced; waiting on the others not counted).
     double imbalance = 1.0;
+    /// Leaves of the last pass whose links' estimated row sum was impossible (rho g >= 1) and
+    /// was held to 1 so that the sweeps converge (hold_row_sums, gather.hpp); 0 in most scenes.
+    std::size_t held_rows = 0;
     std::size_t checkpoints = 0;  ///< checkpoints written
     bool resumed = false;         ///< continued from CheckpointOptions::resume
     /// Links per element.

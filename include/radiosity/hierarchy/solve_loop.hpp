@@ -43,7 +43,10 @@ struct SolveState {
     std::uint64_t splits = 0, settled = 0, open = 0;  ///< RefineRound's counts
     std::uint32_t sweeps_done = 0;                    ///< 1: this pass's sweeps have met their rule
     std::uint32_t converged = 0;                      ///< the last sweep's Report::converged
-    double residual = 0.0;                            ///< the last sweep's Report::residual
+    /// 1: this pass's sweeps ran away and its impossible row sums are held (hold_row_sums)
+    std::uint32_t held = 0;
+    std::uint32_t unused = 0;  ///< (keeps the layout free of padding: it is written as bytes)
+    double residual = 0.0;     ///< the last sweep's Report::residual
     double error_bound = std::numeric_limits<double>::infinity();  ///< and its error bound
 };
 
@@ -184,13 +187,13 @@ class HierarchySolve {
     /// Bytes of nodes, values and this rank's links.
     std::size_t bytes() const {
         // Per link its class shares if any (ClassShares, and those sampled in this pass so
-        // far); per node E, rho, B, H, push-pull's total and rho_max, B_max, exposure; per mixed
-        // cluster Hc, Bc, S and push-pull's `down` (the classes and the rest); per top node
-        // its index among the mixed.
+        // far); per node E, rho, B, H, push-pull's total and rho_max, B_max, exposure,
+        // row_scale; per mixed cluster Hc, Bc, S and push-pull's `down` (the classes and the
+        // rest); per top node its index among the mixed.
         return h_.bytes() + links_.capacity() * sizeof(Link) +
                (shares_.entries.capacity() + sampled_shares_.capacity()) * sizeof(ClassShares) +
                shares_.begin.capacity() * sizeof(std::size_t) +
-               h_.size() * (5 * K + 3) * sizeof(double) +
+               h_.size() * (5 * K + 4) * sizeof(double) +
                v_.S.size() / facing_classes * ((3 * K + 1) * facing_classes + K) * sizeof(double) +
                v_.mixed.size() * sizeof(NodeId);
     }
@@ -281,6 +284,7 @@ class HierarchySolve {
     static SolveState next_sweeps(SolveState st) {
         st.iterating = 1;
         st.sweeps_done = 0;
+        st.held = 0;
         st.sweep = 0;
         st.passes += 1;
         st.previous = std::numeric_limits<double>::infinity();
@@ -377,9 +381,9 @@ class HierarchySolve {
 
     /// Gather, exchange and push-pull until the bound on the error of B meets the tolerance.
     /// The bound is the sweeping solvers' (session.hpp), q / (1 - q) times the last change,
-    /// with q the links' ||R F||_inf where that is below 1; where it is not (a small leaf under
-    /// links averaged over a larger receiver can gather more than 1 per unit B), q is the
-    /// largest of the last three observed contractions change_k / change_k-1, an estimate
+    /// with q = ||R G||_inf of the sweeps' operator, its row sums held where they are
+    /// impossible (hold_rows), below 1 whenever every rho is; where it is not (rho >= 1), q is
+    /// the largest of the last three observed contractions change_k / change_k-1, an estimate
     /// rather than a bound, which the guard backs (2 sweeps_needed + 10 at that q, at most 1000).
     template <Visibility V>
     void iterate(const V& scene, double tolerance, std::size_t cap,
@@ -393,43 +397,29 @@ class HierarchySolve {
             groups, class_shares(h_, scene, links_, o_.cluster_samples, o_.seed, known_shares()));
         hr.share_seconds += seconds_since(t_shares);
         ReceiverExchange exchange(*comm_, groups);
-        std::vector<double> row(h_.size(), 0.0), total, down, mine;
-        // The exchange's: per receiver, H and, for a cluster, its orientation classes' Hc.
-        constexpr std::size_t width = K * (1 + facing_classes);
-        if (comm_->size() > 1) mine.resize(groups.receivers.size() * width);
-        exchange.share(link_rows(links_, groups), 1, row, {});
-        q_rows_ = hierarchy_contraction(h_, std::move(row), v_);
+        std::vector<double> total, down;
         const double emission = *std::max_element(v_.E.begin(), v_.E.end());
         v_.clear_irradiance();  // the links changed: gathers write their receivers' only
         facing_areas(h_, v_);   // the exposure may have changed with them
         pull(h_, v_);  // Bc from B under these S (a resumed solve has B from its checkpoint only)
+        row_sums(groups, exchange, total, down, state_.held != 0, hr);
         for (;;) {
             auto t = std::chrono::steady_clock::now();
             gather_links(h_, links_, groups, shares_, v_);
             hr.gather_seconds += seconds_since(t);
             t = std::chrono::steady_clock::now();
             std::array<double, 2> control{checkpoint_due(), stop_ ? 1.0 : 0.0};
-            if (comm_->size() > 1) {  // one process has every receiver's H already
-                constexpr std::size_t C = facing_classes * K;
-                for (std::size_t g = 0; g < groups.receivers.size(); ++g) {
-                    const NodeId r = groups.receivers[g];
-                    double* out = &mine[g * width];
-                    std::copy_n(&v_.H[r * K], K, out);
-                    if (v_.is_mixed(r))
-                        std::copy_n(&v_.Hc[v_.mixed[r] * C], C, out + K);
-                    else
-                        std::fill_n(out + K, C, 0.0);
-                }
-                control = exchange.share(mine, width, control, [&](NodeId r, const double* in) {
-                    std::copy_n(in, K, &v_.H[r * K]);
-                    if (v_.is_mixed(r)) std::copy_n(in + K, C, &v_.Hc[v_.mixed[r] * C]);
-                });
-            }
+            control = share_irradiance(groups, exchange, control);
             hr.exchange_seconds += seconds_since(t);
             hr.exchange_bytes_per_sweep = exchange.last_bytes();
             t = std::chrono::steady_clock::now();
             const double change = push_pull(h_, v_, total, down);
             hr.push_pull_seconds += seconds_since(t);
+            if (!state_.held && runs_away(emission)) {
+                ++state_.sweeps;
+                hold_and_restart(groups, exchange, total, down, hr);
+                continue;
+            }
             check_divergence(change, emission);
             const bool done = sweep_done(change, tolerance, cap, progress, report);
             // One process decides after the sweep (a stop beats convergence, as in the other
@@ -446,18 +436,89 @@ class HierarchySolve {
         }
     }
 
+    /// With several ranks, hands each receiver's H (and a mixed cluster's Hc) from the rank
+    /// that gathered it to every rank, with the sweep's control words (the largest over the
+    /// ranks comes back); one process has them all already. One exchange.
+    std::array<double, 2> share_irradiance(const LinkGroups& groups, ReceiverExchange& exchange,
+                                           std::array<double, 2> control) {
+        if (comm_->size() == 1) return control;
+        constexpr std::size_t C = facing_classes * K, width = K + C;
+        std::vector<double>& mine = exchange_scratch_;
+        mine.resize(groups.receivers.size() * width);
+        for (std::size_t g = 0; g < groups.receivers.size(); ++g) {
+            const NodeId r = groups.receivers[g];
+            double* out = &mine[g * width];
+            std::copy_n(&v_.H[r * K], K, out);
+            if (v_.is_mixed(r))
+                std::copy_n(&v_.Hc[v_.mixed[r] * C], C, out + K);
+            else
+                std::fill_n(out + K, C, 0.0);
+        }
+        return exchange.share(mine, width, control, [&](NodeId r, const double* in) {
+            std::copy_n(in, K, &v_.H[r * K]);
+            if (v_.is_mixed(r)) std::copy_n(in + K, C, &v_.Hc[v_.mixed[r] * C]);
+        });
+    }
+
+    /// The row sums g of the pass's operator (hold_row_sums), from one sweep's gather and push
+    /// with every node and class sending B = 1 (B and Bc kept aside and put back; H and Hc are
+    /// the next gather's to overwrite); with `hold`, the impossible ones held. Sets q_rows_,
+    /// the stopping rule's contraction, exact for the operator the sweeps then apply. Cost: one
+    /// sweep.
+    void row_sums(const LinkGroups& groups, ReceiverExchange& exchange, std::vector<double>& total,
+                  std::vector<double>& down, bool hold, HierarchyReport& hr) {
+        std::vector<double> B(v_.B.size(), 1.0), Bc(v_.Bc.size(), 1.0);
+        std::swap(B, v_.B);
+        std::swap(Bc, v_.Bc);
+        gather_links(h_, links_, groups, shares_, v_);
+        share_irradiance(groups, exchange, {0.0, 0.0});
+        push(h_, v_, total, down);
+        std::swap(B, v_.B);
+        std::swap(Bc, v_.Bc);
+        const HeldRows held = hold_row_sums(h_, v_, total, hold);
+        q_rows_ = held.norm;
+        hr.held_rows = held.held;
+    }
+
+    /// Whether the sweeps run away: the brightest leaf past twice E_max / (1 - rho_max), which
+    /// bounds every solution of B = E + rho F B whose row sums are at most 1 (and every sweep
+    /// from below it: B' <= E_max + rho_max ||B||). Only links whose estimated row sums pass
+    /// 1 / rho at some leaves get there (hold_row_sums). Never with a reflectance of 1 or more
+    /// (no bound: check_divergence stops those).
+    bool runs_away(double emission) const {
+        const double rho = v_.rho_max[0];  // the largest reflectance of any leaf
+        return rho < 1.0 && v_.B_max[0] > 2.0 * emission / (1.0 - rho);
+    }
+
+    /// Sweeps of a pass that ran away start again with the impossible row sums held
+    /// (row_sums): from B = E at the leaves, the contraction's history forgotten. The sweeps
+    /// made count in Report::iterations.
+    void hold_and_restart(const LinkGroups& groups, ReceiverExchange& exchange,
+                          std::vector<double>& total, std::vector<double>& down,
+                          HierarchyReport& hr) {
+        state_.held = 1;
+        row_sums(groups, exchange, total, down, true, hr);
+        v_.clear_irradiance();
+        push_pull(h_, v_, total, down);  // H = 0: B = E at the leaves, means above
+        const SolveState restarted = next_sweeps(state_);
+        state_.sweep = 0;
+        state_.previous = restarted.previous;
+        state_.first = restarted.first;
+        state_.ratio = restarted.ratio;
+    }
+
     /// Throws if the sweeps diverge: a radiosity no longer finite, or the brightest leaf past
     /// 1e9 times the brightest emission (`emission`, any band). No solution of B = E + rho F B
-    /// with rho < 1 comes near (||B|| <= ||E|| / (1 - rho_max)); only links that gather more
-    /// than 1 / rho at some leaf grow B so, and what the sweeps make of them must not be handed
-    /// on. (The million-triangle box at seed 3 grew so and stayed finite through its 1,000
-    /// sweeps, to end as "not converged" with radiosities past 1e300.)
+    /// with rho < 1 comes near (||B|| <= ||E|| / (1 - rho_max)), and hold_rows keeps the
+    /// links' operator below 1 / rho; only a reflectance of 1 or more grows B so now, and what
+    /// the sweeps make of it must not be handed on. (Before the rows were held, the
+    /// million-triangle box at seed 3 grew so, through 1,000 sweeps to radiosities past 1e300.)
     void check_divergence(double change, double emission) const {
         if (std::isfinite(change) && !(v_.B_max[0] > 1e9 * emission)) return;
         throw Error("hierarchical radiosity: the solution diverged after sweep " +
                     std::to_string(state_.sweeps + 1) +
-                    " (a radiosity past 1e9 times the brightest emission, or not finite); more "
-                    "cluster samples or another seed may avoid it");
+                    " (a radiosity past 1e9 times the brightest emission, or not finite): a "
+                    "reflectance of 1 or more makes light grow at every bounce");
     }
 
     /// After a sweep: the stopping rule and progress; true when the pass's sweeps are done.
@@ -550,7 +611,8 @@ class HierarchySolve {
     SolveState state_;
     std::vector<NodeId> split_log_;
     double emitted_ = 0.0, q_rows_ = 1.0;
-    const Bvh* exposure_scene_ = nullptr;  // rays for exposure (set_exposure); null: none
+    std::vector<double> exchange_scratch_;  // share_irradiance's, kept from sweep to sweep
+    const Bvh* exposure_scene_ = nullptr;   // rays for exposure (set_exposure); null: none
     int exposure_points_ = 0;
     std::uint64_t exposure_seed_ = 0;
     std::vector<std::uint8_t> measured_;  // per node: exposure measured (element leaves)
