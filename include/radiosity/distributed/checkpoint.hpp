@@ -88,10 +88,11 @@ class CheckpointWriter {
         }
     }
 
-    /// "RADCKPT" and the format's version: 5 since a cluster link's visible transfer is held to
-    /// 1 (4: the oracle's oriented clusters), as a solve resumed under the other rule would not
-    /// give the bits of one never stopped (a link's class shares are sampled again from its pair).
-    static constexpr std::array<char, 8> magic{'R', 'A', 'D', 'C', 'K', 'P', 'T', 5};
+    /// "RADCKPT" and the format's version: 6 since the solve's state says whether the pass's
+    /// row sums are held (SolveState::held; 5: a cluster link's visible transfer held to 1, 4:
+    /// the oracle's oriented clusters), as a solve resumed under another rule would not give
+    /// the bits of one never stopped (a link's class shares are sampled again from its pair).
+    static constexpr std::array<char, 8> magic{'R', 'A', 'D', 'C', 'K', 'P', 'T', 6};
 
   private:
     void put(const void* p, std::size_t n) {

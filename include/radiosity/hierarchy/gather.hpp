@@ -412,16 +412,17 @@ struct HeldRows {
 /// leaf; `total`: what push leaves at each leaf when every node and class sends B = 1, the
 /// same for every band), and with `hold` the impossible ones held. A leaf's row sum is the sum
 /// of the visible form factors from its exposed part, at most 1 (it sees no more than a whole
-/// hemisphere). Sampled links scatter it about the true value (room3's leaves from 0.9 to
-/// 1.2 and more, half of them above 1), and the sweeps converge all the same as long as the
-/// operator does; but a cluster link's few samples beside a near face (F / p, with p the
-/// face's small share of the area), divided by a small exposure, gave some leaves of the
-/// million-triangle box at seed 3 a row sum of 4.6 / rho, and the sweeps ran away. Held, a
-/// leaf whose rho_max g >= 1 has its irradiance scaled by s = 1 / g, to the most any leaf can
-/// gather; then every rho g s < 1 and the sweeps converge. Not held, s = 1 everywhere (the
-/// noise above 1 is not cut off, which would darken a room: room3, of reflectance up to
-/// 0.99, came out 5% below the dense solve with every pass held). Returns the leaves held and
-/// max rho_max g s, the operator's ||R G||_inf. Cost: O(nodes).
+/// hemisphere). Sampled links scatter it about the true value (4,511 of room3's 10,463 leaves
+/// above 1, the largest 4.3), and the sweeps converge all the same as long as the operator
+/// does; but a cluster link's few samples beside a near face (F / p, with p the face's small
+/// share of the area), divided by a small exposure, gave some leaves of the million-triangle
+/// box at seed 3 a row sum of 4.6 / rho, and the sweeps ran away. Held, a leaf whose
+/// rho_max g >= 1 has its irradiance scaled by s = 1 / g, to the most any leaf can gather;
+/// then every rho g s < 1 and the sweeps converge. Not held, s = 1 everywhere: holding is
+/// for sweeps that run away, as it also cuts off noise that the sweeps would average out
+/// (room3, of reflectance up to 0.99, has rho g >= 1 at 513 leaves, and held in every pass
+/// it came out 5% below the dense solve). Returns the leaves held and max rho_max g s, the
+/// operator's ||R G||_inf. Cost: O(nodes).
 template <std::size_t K>
 HeldRows hold_row_sums(const Hierarchy& h, NodeValues<K>& v, const std::vector<double>& total,
                        bool hold) {
