@@ -96,7 +96,8 @@ struct HierarchyReport {
     /// the mean (1: balanced; waiting on the others not counted).
     double imbalance = 1.0;
     /// Leaves of the last pass whose links' estimated row sum was impossible (rho g >= 1) and
-    /// was held to 1 so that the sweeps converge (hold_row_sums, gather.hpp); 0 in most scenes.
+    /// was held to 1 because the pass's sweeps ran away (hold_row_sums, gather.hpp); 0 unless
+    /// they did, as in most scenes.
     std::size_t held_rows = 0;
     std::size_t checkpoints = 0;  ///< checkpoints written
     bool resumed = false;         ///< continued from CheckpointOptions::resume
