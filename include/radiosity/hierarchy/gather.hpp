@@ -421,8 +421,8 @@ struct HeldRows {
 /// then every rho g s < 1 and the sweeps converge. Not held, s = 1 everywhere: holding is
 /// for sweeps that run away (HierarchySolve::runs_away), as it also cuts off noise that the
 /// sweeps would average out (room3, of reflectance up to 0.99, has rho g >= 1 at 513 leaves,
-/// and held in every pass it came out 5% below the dense solve). Returns the leaves held and
-/// max rho_max g s, the operator's ||R G||_inf. Cost: O(nodes).
+/// and held in every pass it came out 2.4 to 5.6% below the dense solve). Returns the leaves
+/// held and max rho_max g s, the operator's ||R G||_inf. Cost: O(nodes).
 template <std::size_t K>
 HeldRows hold_row_sums(const Hierarchy& h, NodeValues<K>& v, const std::vector<double>& total,
                        bool hold) {

@@ -490,7 +490,7 @@ class HierarchySolve {
     /// (hold_row_sums) get there; but the bound alone is passed by mere noise too (a furnace of
     /// rho 0.9 with two blocks, 18,520 triangles, sampled once per cluster link: leaves at 1.7
     /// to 2.4 times its exact B at every seed, with the walls' mean within 4% of it), where the
-    /// sweeps converge and holding would bias them (the walls came out 8 to 10% dark). Never
+    /// sweeps converge and holding would bias them (the walls came out 7.6 to 10.1% dark). Never
     /// with a reflectance of 1 or more (no bound: check_divergence stops those).
     bool runs_away(double emission, double change) const {
         const double rho = v_.rho_max[0];  // the largest reflectance of any leaf
