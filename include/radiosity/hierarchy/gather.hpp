@@ -101,7 +101,7 @@ struct NodeValues {
         rho_max.resize(n, 0.0);
         B_max.resize(n, 0.0);
         exposure.resize(n, 1.0);
-        row_scale.resize(n, 1.0);
+        row_scale.resize(n, 1.0);  // new nodes: 1 until the next pass's rows are measured
         for (std::size_t i = from; i < n; ++i) {
             const NodeId p = h.parent[i];
             for (std::size_t k = 0; k < K; ++k) {
@@ -112,7 +112,6 @@ struct NodeValues {
             rho_max[i] = rho_max[p];
             B_max[i] = B_max[p];
             exposure[i] = exposure[p];
-            row_scale[i] = 1.0;  // until the next pass's links are bounded
         }
     }
 

@@ -280,16 +280,22 @@ class HierarchySolve {
         return known;
     }
 
+    /// Forgets the sweeps of this pass so far, for the stopping rule: their count, the last
+    /// change, the first bound and the observed contractions.
+    static void forget_sweeps(SolveState& st) {
+        st.sweep = 0;
+        st.previous = std::numeric_limits<double>::infinity();
+        st.first = 0.0;
+        st.ratio = {1.0, 1.0, 1.0};
+    }
+
     /// The state at the start of a pass's sweeps.
     static SolveState next_sweeps(SolveState st) {
         st.iterating = 1;
         st.sweeps_done = 0;
         st.held = 0;
-        st.sweep = 0;
         st.passes += 1;
-        st.previous = std::numeric_limits<double>::infinity();
-        st.first = 0.0;
-        st.ratio = {1.0, 1.0, 1.0};
+        forget_sweeps(st);
         return st;
     }
 
@@ -416,12 +422,10 @@ class HierarchySolve {
             t = std::chrono::steady_clock::now();
             const double change = push_pull(h_, v_, total, down);
             hr.push_pull_seconds += seconds_since(t);
-            if (!state_.held && runs_away(emission, change)) {
-                hold_and_restart(groups, exchange, total, down, hr);
-                if (hr.held_rows > 0) {
-                    ++state_.sweeps;
-                    continue;
-                }
+            if (!state_.held && runs_away(emission, change) &&
+                hold_and_restart(groups, exchange, total, down, hr)) {
+                ++state_.sweeps;
+                continue;
             }
             check_divergence(change, emission);
             const bool done = sweep_done(change, tolerance, cap, progress, report);
@@ -500,21 +504,19 @@ class HierarchySolve {
     }
 
     /// Sweeps of a pass that ran away start again with the impossible row sums held
-    /// (row_sums): from B = E at the leaves, the contraction's history forgotten; they go on
-    /// as they are if no row sum is impossible. The sweeps made count in Report::iterations.
-    void hold_and_restart(const LinkGroups& groups, ReceiverExchange& exchange,
+    /// (row_sums): from B = E at the leaves, the contraction's history forgotten. Returns
+    /// false, and the sweeps go on as they are, if no row sum is impossible. The sweeps made
+    /// count in Report::iterations.
+    bool hold_and_restart(const LinkGroups& groups, ReceiverExchange& exchange,
                           std::vector<double>& total, std::vector<double>& down,
                           HierarchyReport& hr) {
         state_.held = 1;
         row_sums(groups, exchange, total, down, true, hr);
-        if (hr.held_rows == 0) return;
+        if (hr.held_rows == 0) return false;
         v_.clear_irradiance();
         push_pull(h_, v_, total, down);  // H = 0: B = E at the leaves, means above
-        const SolveState restarted = next_sweeps(state_);
-        state_.sweep = 0;
-        state_.previous = restarted.previous;
-        state_.first = restarted.first;
-        state_.ratio = restarted.ratio;
+        forget_sweeps(state_);
+        return true;
     }
 
     /// Throws if the sweeps diverge: a radiosity no longer finite, or the brightest leaf past
