@@ -716,6 +716,43 @@ TEST_CASE("a solve whose radiosities stop being finite stops with an error, neve
     }
 }
 
+TEST_CASE("sort_by_pair: long lists by radix sort in the order of link_order") {
+    // Past 2^16 items the sort is a radix sort on the receiver and source packed into as few
+    // bits as their largest ids need; the order must be link_order's, for narrow ids (the
+    // packed key well inside 64 bits) and for ids up to 2^32 - 1 (the key all 64 bits).
+    for (const std::uint32_t largest : {5000u, 0xffffffffu}) {
+        Rng rng(largest);
+        const auto id = [&] {
+            return static_cast<NodeId>(rng.uniform() * (double(largest) + 1.0));
+        };
+        LinkVector expected;
+        for (std::size_t i = 0; i < 100000; ++i) expected.push_back({id(), id(), float(i), 1.0f});
+        expected.push_back({largest, largest, -1.0f, 1.0f});  // the largest key, at the end
+        // Unique pairs, as links and shares are (the order is then the one order).
+        std::sort(expected.begin(), expected.end(), link_order);
+        expected.erase(std::unique(expected.begin(), expected.end(),
+                                   [](const Link& a, const Link& b) {
+                                       return a.receiver == b.receiver && a.source == b.source;
+                                   }),
+                       expected.end());
+        REQUIRE(expected.size() > (std::size_t{1} << 16));
+        LinkVector links(expected.rbegin(), expected.rend());
+        std::vector<ClassShares> shares;
+        for (const Link& l : links) shares.push_back({l.receiver, l.source, {}, {}});
+        sort_links(links);
+        sort_by_pair(shares);
+        bool same = true;
+        for (std::size_t i = 0; i < expected.size(); ++i)
+            same = same && links[i].receiver == expected[i].receiver &&
+                   links[i].source == expected[i].source &&
+                   links[i].coefficient == expected[i].coefficient &&
+                   shares[i].receiver == expected[i].receiver &&
+                   shares[i].source == expected[i].source;
+        CHECK(same);
+        CHECK(links.back().coefficient == -1.0f);
+    }
+}
+
 TEST_CASE("links that gather more than a leaf can are held: the sweeps converge, B exact") {
     // Two faces of the furnace cube, rho = 0.5, E = 1, linked both ways by a visible transfer
     // of 3: more than any face can gather (a row sum is at most 1). Swept as they are, B grows
