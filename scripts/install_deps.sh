@@ -4,6 +4,8 @@ set -euo pipefail
 packages=(cmake g++ make clang-format libopenmesh-dev libglm-dev libtinyobjloader-dev libstb-dev
           doctest-dev libbenchmark-dev nlohmann-json3-dev libpugixml-dev libcli11-dev
           libtinyexr-dev libtinygltf-dev
+          # the programs' allocator (examples/allocator.cpp)
+          libjemalloc-dev
           # the readers' fuzzers (clang's libFuzzer, scripts/fuzz.sh)
           clang libclang-rt-14-dev
           # the viewer (radiosity-view), and Xvfb with Mesa's software OpenGL for its tests
