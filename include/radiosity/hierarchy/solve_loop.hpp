@@ -406,9 +406,11 @@ class HierarchySolve {
         ReceiverExchange exchange(*comm_, groups);
         std::vector<double> total, down;
         const double emission = *std::max_element(v_.E.begin(), v_.E.end());
-        v_.clear_irradiance();  // the links changed: gathers write their receivers' only
-        facing_areas(h_, v_);   // the exposure may have changed with them
-        pull(h_, v_);  // Bc from B under these S (a resumed solve has B from its checkpoint only)
+        v_.clear_irradiance();      // the links changed: gathers write their receivers' only
+        facing_areas(h_, v_);       // the exposure may have changed with them
+        levels_ = node_levels(h_);  // for push-pull's threads: the pass's nodes by level
+        pull(h_, v_,
+             &levels_);  // Bc from B under these S (a resumed solve has B from its checkpoint only)
         row_sums(groups, exchange, total, down, state_.held != 0, hr);
         for (;;) {
             auto t = std::chrono::steady_clock::now();
@@ -420,7 +422,7 @@ class HierarchySolve {
             hr.exchange_seconds += seconds_since(t);
             hr.exchange_bytes_per_sweep = exchange.last_bytes();
             t = std::chrono::steady_clock::now();
-            const double change = push_pull(h_, v_, total, down);
+            const double change = push_pull(h_, v_, total, down, &levels_);
             hr.push_pull_seconds += seconds_since(t);
             if (!state_.held && runs_away(emission, change) &&
                 hold_and_restart(groups, exchange, total, down, hr)) {
@@ -479,7 +481,7 @@ class HierarchySolve {
         std::swap(Bc, v_.Bc);
         gather_links(h_, links_, groups, shares_, v_);
         share_irradiance(groups, exchange, {0.0, 0.0});
-        push(h_, v_, total, down);
+        push(h_, v_, total, down, &levels_);
         std::swap(B, v_.B);
         std::swap(Bc, v_.Bc);
         const HeldRows held = hold_row_sums(h_, v_, total, hold);
@@ -514,7 +516,7 @@ class HierarchySolve {
         row_sums(groups, exchange, total, down, true, hr);
         if (hr.held_rows == 0) return false;
         v_.clear_irradiance();
-        push_pull(h_, v_, total, down);  // H = 0: B = E at the leaves, means above
+        push_pull(h_, v_, total, down, &levels_);  // H = 0: B = E at the leaves, means above
         forget_sweeps(state_);
         return true;
     }
@@ -625,6 +627,7 @@ class HierarchySolve {
     std::vector<NodeId> split_log_;
     double emitted_ = 0.0, q_rows_ = 1.0;
     std::vector<double> exchange_scratch_;  // share_irradiance's, kept from sweep to sweep
+    NodeLevels levels_;                     // the pass's nodes by level (iterate)
     const Bvh* exposure_scene_ = nullptr;   // rays for exposure (set_exposure); null: none
     int exposure_points_ = 0;
     std::uint64_t exposure_seed_ = 0;
