@@ -13,7 +13,6 @@
 #include <radiosity/geometry/vec.hpp>
 
 #include <algorithm>
-#include <bit>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -90,8 +89,13 @@ struct Hierarchy {
     bool is_leaf(NodeId n) const { return first_child[n] == no_node; }  ///< no children
     /// A cluster whose roots fall in more than one orientation class: its faces do not all
     /// face alike, so its links split their light by class (gather.hpp). Never an element
-    /// (one class, or none below the roots).
-    bool mixed(NodeId n) const { return std::popcount(unsigned(classes[n])) > 1; }
+    /// (one class, or none below the roots). More than one bit set: c & (c - 1) clears the
+    /// lowest (std::popcount, without a CPU flag for the instruction, calls a library function:
+    /// 0.3% of room3's time).
+    bool mixed(NodeId n) const {
+        const unsigned c = classes[n];
+        return (c & (c - 1)) != 0;
+    }
     std::uint32_t root_of(NodeId n) const { return order[member_begin[n]]; }  ///< element's root
     /// An element's polygon (3 or 4 corners).
     std::span<const Vec3> polygon(NodeId n) const { return {corner[n].data(), corner_count[n]}; }
