@@ -8,7 +8,8 @@
 // machine: room3 took 18,000 of them, many in the serial parts of the solve, where the other
 // core waits. jemalloc reuses what was freed and, set up so, maps its memory in 2 MiB
 // transparent huge pages (512 times fewer faults where the kernel offers them: its "madvise"
-// and "always" modes; elsewhere ordinary pages). README, Performance, has the measurements.
+// and "always" modes; elsewhere ordinary pages). The README's "Under a second" has the
+// measurements.
 
 #include <jemalloc/jemalloc.h>
 
@@ -16,6 +17,6 @@
 /// transparent huge pages (thp, metadata_thp), and large requests served like the others
 /// (oversize_threshold 0: by default those past 8 MiB get an arena of their own that hands
 /// freed memory back to the kernel at once, so that the next pass's 11 MB list of links came
-/// in fresh pages again; room3's last sort of links took 7 to 11 ms this way, 10 to 25 ms
-/// that way). The environment's MALLOC_CONF overrides them.
+/// in fresh pages again; room3's last sort of links took 7 to 11 ms this way, 7 to 25 ms
+/// that way, five runs each). The environment's MALLOC_CONF overrides them.
 const char* malloc_conf = "thp:always,metadata_thp:always,oversize_threshold:0";

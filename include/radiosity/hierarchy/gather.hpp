@@ -92,8 +92,8 @@ inline constexpr std::size_t parallel_level = 256;
 
 /// Runs body(n) for every node n of `levels`, level after level (from the top, or from the
 /// bottom if `upward`), the nodes of a level shared among threads where it has parallel_level
-/// or more. body(n) must write only what belongs to n (or, going down, to n's children) and
-/// read only n's own level's node's values and the level done before.
+/// or more. body(n) must write only n's values (going down, also its children's) and read,
+/// besides n's own, only those of the level done before.
 template <class Body>
 void for_each_level(const NodeLevels& levels, bool upward, Body&& body) {
     const std::size_t count = levels.begin.size() - 1;
@@ -468,7 +468,7 @@ double push_pull(const Hierarchy& h, NodeValues<K>& v, std::vector<double>& tota
     };
     double change = 0.0;
     const auto n = static_cast<std::int64_t>(h.size());
-    if (levels != nullptr && n >= std::int64_t(parallel_level)) {
+    if (levels != nullptr && n >= std::int64_t(parallel_level)) {  // threads, as push's
         // Each thread's largest over a piece, then the pieces' in order: the same number.
         std::vector<double> piece(std::size_t(detail::thread_count()), 0.0);
 #if defined(RADIOSITY_WITH_OPENMP)

@@ -409,8 +409,8 @@ class HierarchySolve {
         v_.clear_irradiance();      // the links changed: gathers write their receivers' only
         facing_areas(h_, v_);       // the exposure may have changed with them
         levels_ = node_levels(h_);  // for push-pull's threads: the pass's nodes by level
-        pull(h_, v_,
-             &levels_);  // Bc from B under these S (a resumed solve has B from its checkpoint only)
+        // Bc from B under these S (a resumed solve has B from its checkpoint only).
+        pull(h_, v_, &levels_);
         row_sums(groups, exchange, total, down, state_.held != 0, hr);
         for (;;) {
             auto t = std::chrono::steady_clock::now();
