@@ -346,6 +346,24 @@ TEST_CASE("a solver stopped by its iteration guard: a warning, exit status 3, ou
     CHECK(ok.err.find("warning") == std::string::npos);
 }
 
+TEST_CASE("a solve that diverges is a one-line error naming its rows, and writes nothing") {
+    // A block floating in a closed room of reflectance 0.99: the analytic method has no
+    // visibility, so each wall takes the walls behind the block as well as the block, its rows
+    // sum past 1 and the sweeps grow without bound. The hemicube solves the same scene.
+    const std::string scene = "'" + data("cli_box_in_box.obj") + "' --max-edge 0";
+    const Run r = run(scene + " --form-factor analytic --image '" + out("diverged.png") + "'");
+    CHECK(r.status != 0);
+    CHECK(r.status != 3);  // not "stopped short": an error
+    CHECK(line_count(r.err) == 1);
+    CHECK_MESSAGE(
+        r.err.find("gauss-seidel: the solution diverged after sweep") != std::string::npos, r.err);
+    CHECK_MESSAGE(r.err.find("the analytic method has none") != std::string::npos, r.err);
+    CHECK(!fs::exists(out("diverged.png")));
+    const Run ok = run(scene + " --image '" + out("hemicube.png") + "'");
+    CHECK_MESSAGE(ok.status == 0, ok.err);
+    CHECK(fs::file_size(out("hemicube.png")) > 0);
+}
+
 TEST_CASE("--solver hierarchical: its leaves are the patches, the summary counts its links") {
     const Run r = run("cornell --solver hierarchical --dump-patches '" + out("h.csv") +
                       "' --image '" + out("h.png") + "'");

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstring>
 #include <random>
+#include <string>
 
 using namespace radiosity;
 
@@ -157,6 +158,39 @@ TEST_CASE("the report is honest: residual, iteration guard, cancellation") {
                            .solve(system, k.F);
     CHECK(shots.report.iterations == 4);
     CHECK(!shots.report.converged);
+}
+
+TEST_CASE("an iteration that diverges stops with an error naming its rows, not with infinities") {
+    // The closed cube's exact matrix with every form factor 1.2 times too large (as form factors
+    // without visibility come out where surfaces hide one another): rows sum to 1.2, times
+    // rho 0.9 a contraction bound of 1.08, and light grows at every bounce. Unscaled, the same
+    // system converges (the tests above).
+    const Case k = load("furnace_cube_rho0.9");
+    DenseMatrix F(6);
+    for (std::size_t i = 0; i < 6; ++i)
+        for (std::size_t j = 0; j < 6; ++j) F.row(i)[j] = 1.2f * k.F.row(i)[j];
+    const std::vector<float> E(k.E.begin(), k.E.end()), R(k.R.begin(), k.R.end());
+    const System<float> system{E, R, k.area};
+    const auto message = [&](auto&& solve) {
+        try {
+            solve();
+        } catch (const Error& e) {
+            return std::string(e.what());
+        }
+        return std::string("no error");
+    };
+    const std::string jacobi = message([&] { Jacobi({.tolerance = 1e-6}).solve(system, F); });
+    const std::string gs = message([&] { GaussSeidel({.tolerance = 1e-6}).solve(system, F); });
+    const std::string shots =
+        message([&] { Progressive({.tolerance = 1e-6, .row_cache_bytes = 0}).solve(system, F); });
+    for (const std::string& m : {jacobi, gs, shots}) {
+        INFO(m);
+        CHECK(m.find("diverged after") != std::string::npos);
+        CHECK(m.find("sum to up to 1.08") != std::string::npos);
+    }
+    CHECK(jacobi.rfind("jacobi:", 0) == 0);
+    CHECK(gs.rfind("gauss-seidel:", 0) == 0);
+    CHECK(shots.rfind("progressive:", 0) == 0);
 }
 
 TEST_CASE("the ambient term: exact for uniform unshot light, and it helps an early stop") {

@@ -226,6 +226,7 @@ class Progressive : public detail::SolverBase<Progressive, ProgressiveOptions> {
         const std::size_t n = area.size();
         Report& report = session.report;
         const double emitted = scan<K>(session.E, session.E, area).power;
+        const double brightest = detail::emission_scale(session.E);
         auto rule =
             detail::StoppingRule::shots(options_.tolerance, q(), options_.max_iterations, n);
         const std::size_t report_every =
@@ -235,6 +236,7 @@ class Progressive : public detail::SolverBase<Progressive, ProgressiveOptions> {
             const Scan now = scan<K>(unshot, B, area);
             report.residual = emitted > 0.0 ? now.unshot_power / emitted : 0.0;
             rule.contraction = q();
+            detail::check_divergence(report, "shot", now.max, brightest, rule.contraction);
             report.error_bound = norm == Norm::max ? rule.bound(now.unshot_max, now.max)
                                                    : rule.bound(now.unshot_power, now.power);
             if (first < 0.0) first = report.error_bound;

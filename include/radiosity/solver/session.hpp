@@ -16,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <cstdio>
 #include <limits>
 #include <optional>
 #include <span>
@@ -223,11 +224,33 @@ struct StoppingRule {
     }
 };
 
+/// Stops an iteration that diverges: throws Error once the largest radiosity `size` passes 1e9
+/// times the brightest emission `scale`, or stops being finite. With q = ||R F||_inf below 1 no
+/// iterate from B = E can pass scale / (1 - q), so only a matrix whose rows, times R, sum to 1
+/// or more lets light grow at every bounce: form factors without visibility where surfaces hide
+/// one another (the analytic method by default), whose rows then sum past 1. Without this check
+/// such a solve ran to its guard and wrote radiosities of 1e23, or infinity, into the outputs
+/// (RRV's room3 with the analytic method). Cost: O(1).
+inline void check_divergence(const Report& report, const char* step, double size, double scale,
+                             double q) {
+    if (std::isfinite(size) && !(size > 1e9 * scale)) return;
+    char rows[32];
+    std::snprintf(rows, sizeof rows, "%.3g", q);
+    throw Error(report.solver + ": the solution diverged after " + step + " " +
+                std::to_string(report.iterations) +
+                " (a radiosity past 1e9 times the brightest emission, or not finite): the rows "
+                "of R F sum to up to " +
+                rows +
+                ", so light grows at every bounce; form factors whose rows sum past 1 are "
+                "missing visibility (the analytic method has none: where surfaces hide one "
+                "another use the hemicube or ray casting, or its visibility samples)");
+}
+
 /// The loop shared by the sweeping solvers: calls sweep(), which returns the largest change of
 /// B (absolute, over every band), and size(), ||B||_inf after it, until the rule's bound from
 /// the change meets the tolerance, the rule's guard is reached or the progress callback
 /// cancels; fills iterations, residual (the last change relative to `scale`, max E),
-/// error_bound, converged and cancelled. values() gives the current B (interleaved, as
+/// error_bound, converged and cancelled. Throws Error where B diverges (check_divergence). values() gives the current B (interleaved, as
 /// to_doubles) for Progress::radiosity; it is called only when the session is observed.
 template <SpectrumType S, class Sweep, class Size, class Values>
 void sweep_until(SolveSession<S>& session, const StoppingRule& rule, double scale, Sweep&& sweep,
@@ -237,8 +260,10 @@ void sweep_until(SolveSession<S>& session, const StoppingRule& rule, double scal
     while (!rule.exhausted(report.iterations)) {
         const double change = sweep();
         ++report.iterations;
+        const double now = size();
+        check_divergence(report, "sweep", now, scale, rule.contraction);
         report.residual = change / scale;
-        report.error_bound = rule.bound(change, size());
+        report.error_bound = rule.bound(change, now);
         if (first < 0.0) first = report.error_bound;
         if (rule.met(report.error_bound)) {
             report.converged = true;
