@@ -20,6 +20,12 @@
 //                            plane, as the million test groups them) at seeds 1..N (default
 //                            4), each against the dense hemicube solve: the target's own
 //                            measure, which the per-material means average over
+//   bench_hierarchy furnace  a closed room of 10 units, empty and with two floating blocks,
+//                            every face emitting E = 1 with one reflectance rho (0.5, 0.9):
+//                            every leaf's exact B is E / (1 - rho), so each leaf's error is
+//                            the method's; the mean, the worst leaf, and the leaves along the
+//                            room's edges (within 0.3 of a second wall) against the rest;
+//                            --link-error E
 //
 // Columns: seconds (wall), peak resident memory (MB), elements, links, links per element,
 // leaves (the result's patches) and, for the ladder, the cost ratio to the row above.
@@ -262,6 +268,71 @@ int surfaces(int n) {
     return 0;
 }
 
+/// Appends the six faces of the box [lo, hi] to s, turned in (a room) or out (a block), all of
+/// material 0.
+void add_box(radiosity::Scene<Rgb>& s, const radiosity::Vec3& lo, const radiosity::Vec3& hi,
+             bool inward) {
+    const auto base = static_cast<std::uint32_t>(s.positions.size());
+    for (int k = 0; k < 8; ++k)  // corner k: x from bit 0, y from bit 1, z from bit 2
+        s.positions.emplace_back(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+    const std::array<std::array<std::uint32_t, 4>, 6> out{
+        {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}}};
+    for (auto q : out) {
+        if (inward) std::reverse(q.begin(), q.end());
+        s.faces.push_back({base + q[0], base + q[1], base + q[2], base + q[3]});
+        s.face_material.push_back(0);
+    }
+}
+
+/// The furnace (see the file comment): for the empty room and the room with two blocks, at rho
+/// 0.5 and 0.9, each leaf's B against E / (1 - rho), at `link_error` (0: the default).
+int furnace(double link_error) {
+    std::printf(
+        "| room | rho | leaves | links | mean | worst leaf | edge strips | the rest |\n"
+        "|---|---|---|---|---|---|---|---|\n");
+    for (const bool blocks : {false, true})
+        for (const float rho : {0.5f, 0.9f}) {
+            radiosity::Scene<Rgb> s;
+            s.source = "furnace";
+            s.materials.push_back({radiosity::from_rgb<Rgb>(1.0f, 1.0f, 1.0f),
+                                   radiosity::from_rgb<Rgb>(rho, rho, rho), "grey"});
+            add_box(s, radiosity::Vec3(0.0), radiosity::Vec3(10.0), true);
+            if (blocks) {
+                add_box(s, {3.0, 3.0, 3.0}, {6.0, 5.0, 7.0}, false);
+                add_box(s, {6.5, 1.0, 1.0}, {8.5, 4.0, 3.0}, false);
+            }
+            radiosity::SolveOptions o{.solver = radiosity::SolverKind::hierarchical};
+            if (link_error > 0.0) o.hierarchical.link_error = link_error;
+            const auto r = radiosity::solve(radiosity::build_mesh(s), o);
+            const double exact = 1.0 / (1.0 - double(rho));
+            double sum = 0.0, area = 0.0, worst = 0.0;
+            std::array<double, 2> strip_sum{}, strip_area{};  // [0]: edge strips, [1]: the rest
+            for (auto f : r.mesh.faces()) {
+                const auto p = radiosity::face_polygon(r.mesh, f);
+                radiosity::Vec3 c(0.0);
+                for (const auto& v : p) c += v;
+                c /= double(p.size());
+                const double a = radiosity::polygon_area(p);
+                const double off = radiosity::mean_band(r.mesh.data(f).radiosity) / exact - 1.0;
+                sum += a * off;
+                area += a;
+                worst = std::max(worst, std::abs(off));
+                // On a wall, within 0.3 of a second wall's plane: next to an edge of the room.
+                int near = 0;
+                for (int k = 0; k < 3; ++k) near += std::min(c[k], 10.0 - c[k]) < 0.3 ? 1 : 0;
+                const std::size_t i = near >= 2 ? 0 : 1;
+                strip_sum[i] += a * off;
+                strip_area[i] += a;
+            }
+            std::printf("| %s | %.1f | %zu | %zu | %+.2f %% | %.1f %% | %+.2f %% | %+.2f %% |\n",
+                        blocks ? "two blocks" : "empty", double(rho), r.patches.size(),
+                        r.hierarchy->links, 100.0 * sum / area, 100.0 * worst,
+                        100.0 * strip_sum[0] / strip_area[0], 100.0 * strip_sum[1] / strip_area[1]);
+            std::fflush(stdout);
+        }
+    return 0;
+}
+
 void write_obj(const radiosity::Scene<Rgb>& s, const std::string& path) {
     std::ofstream obj(path), mtl(path + ".mtl");
     mtl.precision(9);
@@ -374,9 +445,10 @@ int main(int argc, char** argv) {
         return million(obj, edge, link_error, reference_error, seed, cluster_samples);
     if (what == "seeds") return seeds(argc > 2 ? std::max(1, std::atoi(argv[2])) : 8);
     if (what == "surfaces") return surfaces(argc > 2 ? std::max(1, std::atoi(argv[2])) : 4);
+    if (what == "furnace") return furnace(link_error);
     std::fprintf(stderr,
                  "usage: bench_hierarchy ladder | million [--obj FILE] [--edge MM] "
                  "[--link-error E] [--reference-link-error E] [--seed N] [--cluster-samples N] "
-                 "| seeds [N] | surfaces [N]\n");
+                 "| seeds [N] | surfaces [N] | furnace [--link-error E]\n");
     return 2;
 }
