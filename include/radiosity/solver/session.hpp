@@ -250,8 +250,9 @@ inline void check_divergence(const Report& report, const char* step, double size
 /// B (absolute, over every band), and size(), ||B||_inf after it, until the rule's bound from
 /// the change meets the tolerance, the rule's guard is reached or the progress callback
 /// cancels; fills iterations, residual (the last change relative to `scale`, max E),
-/// error_bound, converged and cancelled. Throws Error where B diverges (check_divergence). values() gives the current B (interleaved, as
-/// to_doubles) for Progress::radiosity; it is called only when the session is observed.
+/// error_bound, converged and cancelled. Throws Error where B diverges (check_divergence). values()
+/// gives the current B (interleaved, as to_doubles) for Progress::radiosity; it is called only when
+/// the session is observed.
 template <SpectrumType S, class Sweep, class Size, class Values>
 void sweep_until(SolveSession<S>& session, const StoppingRule& rule, double scale, Sweep&& sweep,
                  Size&& size, Values&& values) {
