@@ -1,8 +1,8 @@
 // The four solvers against the exact solutions of ../shared/refdata/cases.json: the furnace
 // (B = E / (1 - rho) in a closed box), a sphere of 8 patches that see themselves (F_ii != 0),
-// infinite parallel plates, and a cube with one emitting face. Also the iteration guard,
-// cancellation and bad input; the dense gather kernel, and the sweeps over dense rows against
-// the generic ones and across thread counts.
+// infinite parallel plates, and a cube with one emitting face. Also the iteration guard, an
+// iteration that diverges, cancellation and bad input; the dense gather kernel, and the sweeps
+// over dense rows against the generic ones and across thread counts.
 #include <radiosity/form_factor/matrix.hpp>
 #include <radiosity/solver/direct.hpp>
 #include <radiosity/solver/gauss_seidel.hpp>
