@@ -115,14 +115,21 @@ Row solve_row(const radiosity::Mesh<Rgb>& scene, radiosity::SolveOptions o,
     return row;
 }
 
-/// RRV's room3 from shared/, or nothing (and a line saying so) where it is not there.
-std::optional<radiosity::Mesh<Rgb>> room3() {
+/// RRV's room3 scene from shared/, or nothing (and a line saying so) where it is not there.
+std::optional<radiosity::Scene<Rgb>> room3_scene() {
     const std::string path = std::string(RADIOSITY_SHARED_DIR) + "/rrv/room3.xml";
     if (!std::ifstream(path)) {
         std::printf("skipped: %s not found\n", path.c_str());
         return std::nullopt;
     }
-    return radiosity::build_mesh(radiosity::read_rrv<Rgb>(path));
+    return radiosity::read_rrv<Rgb>(path);
+}
+
+/// Room3's patch mesh (room3_scene), or nothing.
+std::optional<radiosity::Mesh<Rgb>> room3() {
+    const auto scene = room3_scene();
+    if (!scene) return std::nullopt;
+    return radiosity::build_mesh(*scene);
 }
 
 /// The dense hemicube solve of RRV's own patches (area rule 1, T-junctions as RRV leaves them).
@@ -210,15 +217,11 @@ int seeds(int n) {
 /// (they only emit), those under 1 unit of area too (a lamp shade's 20 sides are surfaces of
 /// 1.1 each). Solved in this process, one after the other (no memory column).
 int surfaces(int n) {
-    const std::string path = std::string(RADIOSITY_SHARED_DIR) + "/rrv/room3.xml";
-    if (!std::ifstream(path)) {
-        std::printf("skipped: %s not found\n", path.c_str());
-        return 0;
-    }
-    const radiosity::Scene<Rgb> scene = radiosity::read_rrv<Rgb>(path);
+    const auto scene = room3_scene();
+    if (!scene) return 0;
     std::vector<std::string> names;
-    const std::vector<std::uint32_t> surface = bench::surfaces_of(scene, names);
-    const radiosity::Mesh<Rgb> mesh = radiosity::build_mesh(scene);
+    const std::vector<std::uint32_t> surface = bench::surfaces_of(*scene, names);
+    const radiosity::Mesh<Rgb> mesh = radiosity::build_mesh(*scene);
     const auto dense = radiosity::solve(mesh, dense_rrv);
     const std::vector<double> d = bench::surface_means(dense.mesh, surface, names.size());
     std::vector<double> area(names.size(), 0.0);

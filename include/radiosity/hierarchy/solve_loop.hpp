@@ -521,15 +521,16 @@ class HierarchySolve {
         return true;
     }
 
-    /// Throws if the sweeps diverge: a radiosity no longer finite, or the brightest leaf past
-    /// 1e9 times the brightest emission (`emission`, any band). No solution of B = E + rho F B
+    /// Throws if the sweeps diverge (detail::diverged, every solver's rule): a radiosity no
+    /// longer finite, or the brightest leaf past 1e9 times the brightest emission (`emission`,
+    /// any band). No solution of B = E + rho F B
     /// with rho < 1 comes near (||B|| <= ||E|| / (1 - rho_max)), and sweeps that run away are
     /// held below that first (hold_and_restart); only a reflectance of 1 or more grows B so
     /// now, and what the sweeps make of it must not be handed on. (Before the rows were held,
     /// the million-triangle box at seed 3 grew so, through 1,000 sweeps to radiosities past
     /// 1e300.)
     void check_divergence(double change, double emission) const {
-        if (std::isfinite(change) && !(v_.B_max[0] > 1e9 * emission)) return;
+        if (std::isfinite(change) && !detail::diverged(v_.B_max[0], emission)) return;
         throw Error("hierarchical radiosity: the solution diverged after sweep " +
                     std::to_string(state_.sweeps + 1) +
                     " (a radiosity past 1e9 times the brightest emission, or not finite): a "

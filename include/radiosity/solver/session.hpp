@@ -224,16 +224,22 @@ struct StoppingRule {
     }
 };
 
-/// Stops an iteration that diverges: throws Error once the largest radiosity `size` passes 1e9
-/// times the brightest emission `scale`, or stops being finite. With q = ||R F||_inf below 1 no
-/// iterate from B = E can pass scale / (1 - q), so only a matrix whose rows, times R, sum to 1
-/// or more lets light grow at every bounce: form factors without visibility where surfaces hide
-/// one another (the analytic method by default), whose rows then sum past 1. Without this check
-/// such a solve ran to its guard and wrote radiosities of 1e23, or infinity, into the outputs
-/// (RRV's room3 with the analytic method). Cost: O(1).
+/// Whether an iteration has diverged, the rule every solver stops by: its largest radiosity
+/// `size` is past 1e9 times the brightest emission `scale`, or not finite. With q = ||R F||_inf
+/// below 1 no iterate from B = E can pass scale / (1 - q), so only an operator whose rows, times
+/// R, sum to 1 or more gets there: light grows at every bounce. Cost: O(1).
+inline bool diverged(double size, double scale) {
+    return !std::isfinite(size) || size > 1e9 * scale;
+}
+
+/// Stops a dense iteration that diverged (diverged()): throws Error naming the step and the
+/// largest row sum q. Rows sum past 1 where form factors lack visibility and surfaces hide one
+/// another (the analytic method by default). Without this check such a solve ran to its guard
+/// and wrote radiosities of 1e23, or infinity, into the outputs (RRV's room3 with the analytic
+/// method). Cost: O(1).
 inline void check_divergence(const Report& report, const char* step, double size, double scale,
                              double q) {
-    if (std::isfinite(size) && !(size > 1e9 * scale)) return;
+    if (!diverged(size, scale)) return;
     char rows[32];
     std::snprintf(rows, sizeof rows, "%.3g", q);
     throw Error(report.solver + ": the solution diverged after " + step + " " +
