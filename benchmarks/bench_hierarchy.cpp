@@ -19,13 +19,15 @@
 //   bench_hierarchy surfaces [N]  room3's per-surface means (faces grouped by material and
 //                            plane, as the million test groups them) at seeds 1..N (default
 //                            4), each against the dense hemicube solve: the target's own
-//                            measure, which the per-material means average over
+//                            measure, which the per-material means average over;
+//                            --enclosure-rays N (0: leaves keep their links' row sums)
 //   bench_hierarchy furnace  a closed room of 10 units, empty and with two floating blocks,
 //                            every face emitting E = 1 with one reflectance rho (0.5, 0.9):
 //                            every leaf's exact B is E / (1 - rho), so each leaf's error is
 //                            the method's; the mean, the worst leaf, and the leaves along the
-//                            room's edges (within 0.3 of a second wall) against the rest;
-//                            --link-error E
+//                            room's edges (within 0.3 of a second wall) against the rest, with
+//                            the leaves' links' own row sums and with enclosed leaves scaled
+//                            to a row sum of 1 (the default); --link-error E
 //
 // Columns: seconds (wall), peak resident memory (MB), elements, links, links per element,
 // leaves (the result's patches) and, for the ladder, the cost ratio to the row above.
@@ -216,7 +218,7 @@ int seeds(int n) {
 /// surface is the faces of one material in one plane (bench::surfaces_of), the lamps' left out
 /// (they only emit), those under 1 unit of area too (a lamp shade's 20 sides are surfaces of
 /// 1.1 each). Solved in this process, one after the other (no memory column).
-int surfaces(int n) {
+int surfaces(int n, int enclosure_rays) {
     const auto scene = room3_scene();
     if (!scene) return 0;
     std::vector<std::string> names;
@@ -235,6 +237,7 @@ int surfaces(int n) {
     for (int seed = 1; seed <= n; ++seed) {
         radiosity::SolveOptions o = hierarchical_rrv(1.0);
         o.hierarchical.seed = std::uint64_t(seed);
+        if (enclosure_rays >= 0) o.hierarchical.enclosure_rays = enclosure_rays;
         const auto r = radiosity::solve(mesh, o);
         const std::vector<double> h = bench::surface_means(r.mesh, surface, names.size());
         for (std::size_t g = 0; g < names.size(); ++g)
@@ -288,51 +291,55 @@ void add_box(radiosity::Scene<Rgb>& s, const radiosity::Vec3& lo, const radiosit
 }
 
 /// The furnace (see the file comment): for the empty room and the room with two blocks, at rho
-/// 0.5 and 0.9, each leaf's B against E / (1 - rho), at `link_error` (0: the default).
+/// 0.5 and 0.9, each leaf's B against E / (1 - rho), at `link_error` (0: the default), with the
+/// links' own row sums and with enclosed leaves scaled to a row sum of 1.
 int furnace(double link_error) {
     std::printf(
-        "| room | rho | leaves | links | mean | worst leaf | edge strips | the rest |\n"
-        "|---|---|---|---|---|---|---|---|\n");
+        "| room | rho | row sums | leaves | links | mean | worst leaf | edge strips | the rest "
+        "|\n|---|---|---|---|---|---|---|---|---|\n");
     for (const bool blocks : {false, true})
-        for (const float rho : {0.5f, 0.9f}) {
-            radiosity::Scene<Rgb> s;
-            s.source = "furnace";
-            s.materials.push_back({radiosity::from_rgb<Rgb>(1.0f, 1.0f, 1.0f),
-                                   radiosity::from_rgb<Rgb>(rho, rho, rho), "grey"});
-            add_box(s, radiosity::Vec3(0.0), radiosity::Vec3(10.0), true);
-            if (blocks) {
-                add_box(s, {3.0, 3.0, 3.0}, {6.0, 5.0, 7.0}, false);
-                add_box(s, {6.5, 1.0, 1.0}, {8.5, 4.0, 3.0}, false);
+        for (const float rho : {0.5f, 0.9f})
+            for (const bool scaled : {false, true}) {
+                radiosity::Scene<Rgb> s;
+                s.source = "furnace";
+                s.materials.push_back({radiosity::from_rgb<Rgb>(1.0f, 1.0f, 1.0f),
+                                       radiosity::from_rgb<Rgb>(rho, rho, rho), "grey"});
+                add_box(s, radiosity::Vec3(0.0), radiosity::Vec3(10.0), true);
+                if (blocks) {
+                    add_box(s, {3.0, 3.0, 3.0}, {6.0, 5.0, 7.0}, false);
+                    add_box(s, {6.5, 1.0, 1.0}, {8.5, 4.0, 3.0}, false);
+                }
+                radiosity::SolveOptions o{.solver = radiosity::SolverKind::hierarchical};
+                if (link_error > 0.0) o.hierarchical.link_error = link_error;
+                if (!scaled) o.hierarchical.enclosure_rays = 0;
+                const auto r = radiosity::solve(radiosity::build_mesh(s), o);
+                const double exact = 1.0 / (1.0 - double(rho));
+                double sum = 0.0, area = 0.0, worst = 0.0;
+                std::array<double, 2> strip_sum{}, strip_area{};  // [0]: edge strips, [1]: the rest
+                for (auto f : r.mesh.faces()) {
+                    const auto p = radiosity::face_polygon(r.mesh, f);
+                    radiosity::Vec3 c(0.0);
+                    for (const auto& v : p) c += v;
+                    c /= double(p.size());
+                    const double a = radiosity::polygon_area(p);
+                    const double off = radiosity::mean_band(r.mesh.data(f).radiosity) / exact - 1.0;
+                    sum += a * off;
+                    area += a;
+                    worst = std::max(worst, std::abs(off));
+                    // On a wall, within 0.3 of a second wall's plane: next to an edge of the room.
+                    int near = 0;
+                    for (int k = 0; k < 3; ++k) near += std::min(c[k], 10.0 - c[k]) < 0.3 ? 1 : 0;
+                    const std::size_t i = near >= 2 ? 0 : 1;
+                    strip_sum[i] += a * off;
+                    strip_area[i] += a;
+                }
+                std::printf(
+                    "| %s | %.1f | %s | %zu | %zu | %+.2f %% | %.1f %% | %+.2f %% | %+.2f %% |\n",
+                    blocks ? "two blocks" : "empty", double(rho), scaled ? "enclosed: 1" : "links'",
+                    r.patches.size(), r.hierarchy->links, 100.0 * sum / area, 100.0 * worst,
+                    100.0 * strip_sum[0] / strip_area[0], 100.0 * strip_sum[1] / strip_area[1]);
+                std::fflush(stdout);
             }
-            radiosity::SolveOptions o{.solver = radiosity::SolverKind::hierarchical};
-            if (link_error > 0.0) o.hierarchical.link_error = link_error;
-            const auto r = radiosity::solve(radiosity::build_mesh(s), o);
-            const double exact = 1.0 / (1.0 - double(rho));
-            double sum = 0.0, area = 0.0, worst = 0.0;
-            std::array<double, 2> strip_sum{}, strip_area{};  // [0]: edge strips, [1]: the rest
-            for (auto f : r.mesh.faces()) {
-                const auto p = radiosity::face_polygon(r.mesh, f);
-                radiosity::Vec3 c(0.0);
-                for (const auto& v : p) c += v;
-                c /= double(p.size());
-                const double a = radiosity::polygon_area(p);
-                const double off = radiosity::mean_band(r.mesh.data(f).radiosity) / exact - 1.0;
-                sum += a * off;
-                area += a;
-                worst = std::max(worst, std::abs(off));
-                // On a wall, within 0.3 of a second wall's plane: next to an edge of the room.
-                int near = 0;
-                for (int k = 0; k < 3; ++k) near += std::min(c[k], 10.0 - c[k]) < 0.3 ? 1 : 0;
-                const std::size_t i = near >= 2 ? 0 : 1;
-                strip_sum[i] += a * off;
-                strip_area[i] += a;
-            }
-            std::printf("| %s | %.1f | %zu | %zu | %+.2f %% | %.1f %% | %+.2f %% | %+.2f %% |\n",
-                        blocks ? "two blocks" : "empty", double(rho), r.patches.size(),
-                        r.hierarchy->links, 100.0 * sum / area, 100.0 * worst,
-                        100.0 * strip_sum[0] / strip_area[0], 100.0 * strip_sum[1] / strip_area[1]);
-            std::fflush(stdout);
-        }
     return 0;
 }
 
@@ -432,8 +439,9 @@ int main(int argc, char** argv) {
     double link_error = 0.0;  // 0: the default
     double reference_error = 3e-7;
     std::uint64_t seed = 1;
-    int cluster_samples = 0;  // 0: the default
-    for (int i = 2; i + 1 < argc; i += 2) {
+    int cluster_samples = 0;              // 0: the default
+    int enclosure_rays = -1;              // -1: the default
+    for (int i = 2; i + 1 < argc; ++i) {  // (surfaces takes N before its flag)
         if (std::strcmp(argv[i], "--obj") == 0) obj = argv[i + 1];
         if (std::strcmp(argv[i], "--edge") == 0) edge = std::atof(argv[i + 1]);
         if (std::strcmp(argv[i], "--link-error") == 0) link_error = std::atof(argv[i + 1]);
@@ -442,16 +450,18 @@ int main(int argc, char** argv) {
         if (std::strcmp(argv[i], "--seed") == 0) seed = std::strtoull(argv[i + 1], nullptr, 10);
         if (std::strcmp(argv[i], "--cluster-samples") == 0)
             cluster_samples = std::atoi(argv[i + 1]);
+        if (std::strcmp(argv[i], "--enclosure-rays") == 0) enclosure_rays = std::atoi(argv[i + 1]);
     }
     if (what == "ladder") return ladder();
     if (what == "million")
         return million(obj, edge, link_error, reference_error, seed, cluster_samples);
     if (what == "seeds") return seeds(argc > 2 ? std::max(1, std::atoi(argv[2])) : 8);
-    if (what == "surfaces") return surfaces(argc > 2 ? std::max(1, std::atoi(argv[2])) : 4);
+    if (what == "surfaces")
+        return surfaces(argc > 2 ? std::max(1, std::atoi(argv[2])) : 4, enclosure_rays);
     if (what == "furnace") return furnace(link_error);
     std::fprintf(stderr,
                  "usage: bench_hierarchy ladder | million [--obj FILE] [--edge MM] "
                  "[--link-error E] [--reference-link-error E] [--seed N] [--cluster-samples N] "
-                 "| seeds [N] | surfaces [N] | furnace [--link-error E]\n");
+                 "| seeds [N] | surfaces [N] [--enclosure-rays N] | furnace [--link-error E]\n");
     return 2;
 }

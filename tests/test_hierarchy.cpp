@@ -104,10 +104,14 @@ const HierarchicalOptions fine{.link_error = 1e-6, .min_area = 1e-4};
 }  // namespace
 
 TEST_CASE("furnace: B = E / (1 - rho) in total power and, to the link error, leaf by leaf") {
+    // The links alone (no enclosure test: each leaf keeps its links' row sum).
+    HierarchicalOptions links_alone = fine;
+    links_alone.enclosure_rays = 0;
     for (const float rho : {0.5f, 0.9f}) {
         const Mesh<Rgb> cube = build_mesh(test::furnace_cube(1.0f, rho));
-        const auto r = solve_hierarchical<Rgb>(cube, fine, 1e-7);
+        const auto r = solve_hierarchical<Rgb>(cube, links_alone, 1e-7);
         CHECK(r.report.converged);
+        CHECK(r.hierarchy.scaled_rows == 0);
         const double exact = 1.0 / (1.0 - rho);
         // Power: sum A B = 6 E / (1 - rho) when the links' coefficients conserve energy (the
         // leaf-area-weighted row sums are 1), whatever the refinement.
@@ -124,6 +128,96 @@ TEST_CASE("furnace: B = E / (1 - rho) in total power and, to the link error, lea
                        << "error " << weighted / 6.0);
         CHECK(weighted / 6.0 < 0.025);
     }
+}
+
+TEST_CASE("furnace, enclosed leaves scaled to a row sum of 1: B = E / (1 - rho) at every leaf") {
+    // Every leaf of a closed room is enclosed (element_enclosed), and scaled so that its
+    // links' row sum is 1 (scale_row_sums): then B = E + rho B at every leaf, whatever the
+    // links, the edges' and corners' leaves too, whose links alone bring up to a quarter too
+    // much (the test above), at the default link error as at a fine one. Two floating blocks
+    // (closed solids, faces out) make the room's leaves see faces at every distance and angle.
+    Scene<Rgb> s = test::furnace_cube(1.0f, 0.9f);
+    add_box(s, Vec3(0.2, 0.2, 0.2), Vec3(0.4, 0.5, 0.45));
+    add_box(s, Vec3(0.55, 0.5, 0.3), Vec3(0.8, 0.7, 0.8));
+    const Mesh<Rgb> m = build_mesh(s);
+    for (const HierarchicalOptions& o : {HierarchicalOptions{}, fine}) {
+        const auto r = solve_hierarchical<Rgb>(m, o, 1e-9);
+        CHECK(r.report.converged);
+        CHECK(r.hierarchy.scaled_rows == r.hierarchy.leaves);
+        double worst = 0.0;
+        for (auto f : r.mesh.faces())
+            worst = std::max(worst, std::abs(band(r.mesh.data(f).radiosity, 0) / 10.0 - 1.0));
+        MESSAGE(r.hierarchy.leaves << " leaves, the worst off by " << worst);
+        CHECK(worst < 1e-6);
+    }
+}
+
+TEST_CASE("enclosure: every ray from the exposed part meets a face's front, or not") {
+    // A closed cube with a pillar from floor to ceiling and a single-sided square floating
+    // under the ceiling, its front down; and the cube without its ceiling.
+    Scene<Rgb> s = test::furnace_cube(1.0f, 0.5f);
+    add_box(s, Vec3(0.25, 0.25, 0.0), Vec3(0.5, 0.5, 1.0));  // faces 6 to 11
+    const auto square = static_cast<std::uint32_t>(s.positions.size());
+    for (const Vec3& p :
+         {Vec3(0.6, 0.6, 0.8), Vec3(0.6, 0.9, 0.8), Vec3(0.9, 0.9, 0.8), Vec3(0.9, 0.6, 0.8)})
+        s.positions.push_back(p);
+    s.faces.push_back({square, square + 1, square + 2, square + 3});  // face 12, facing down
+    s.face_material.push_back(0);
+    Hierarchy h = detail::hierarchy_of(build_mesh(s));
+    const Bvh bvh(h.roots);
+    const auto element_of_face = [&](const Hierarchy& in, std::uint32_t face) {
+        for (NodeId n = 0; n < in.size(); ++n)
+            if (!in.is_cluster(n) && in.surface[in.root_of(n)] == face) return n;
+        return no_node;
+    };
+    for (const std::uint64_t seed : {1u, 2u, 3u}) {
+        CHECK(element_enclosed(h, bvh, element_of_face(h, 2), 64, seed));   // a wall
+        CHECK(element_enclosed(h, bvh, element_of_face(h, 8), 64, seed));   // the pillar's side
+        CHECK(element_enclosed(h, bvh, element_of_face(h, 12), 64, seed));  // the square
+        // The ceiling sees the square's back: light comes from nowhere there.
+        CHECK(!element_enclosed(h, bvh, element_of_face(h, 1), 64, seed));
+        // The pillar's end on the floor is hidden: no point of it is exposed.
+        CHECK(!element_enclosed(h, bvh, element_of_face(h, 6), 64, seed));
+    }
+    // The floor, split until an element is a quarter square: the one under the pillar is a
+    // quarter hidden, and the rest of it sees faces' fronts all round (the hidden part does
+    // not count), as every other quarter does.
+    const NodeId first = split_element(h, element_of_face(h, 0));
+    for (NodeId c = first; c < first + 4; ++c) CHECK(element_enclosed(h, bvh, c, 64, 1));
+    // Without its ceiling the floor sees the sky.
+    Scene<Rgb> open = test::furnace_cube(1.0f, 0.5f);
+    open.faces.erase(open.faces.begin() + 1);
+    open.face_material.pop_back();
+    const Hierarchy ho = detail::hierarchy_of(build_mesh(open));
+    const Bvh bo(ho.roots);
+    CHECK(!element_enclosed(ho, bo, element_of_face(ho, 0), 64, 1));
+}
+
+TEST_CASE("scale_row_sums: an enclosed leaf to a row sum of 1, within a factor 2; others not") {
+    // The six faces of the furnace cube as leaves, with row sums g (what push leaves when every
+    // node sends B = 1) set by hand: enclosed ones are scaled by 1 / g, at most by
+    // row_scale_limit either way; the rest keep 1.
+    const Hierarchy h = detail::hierarchy_of(build_mesh(test::furnace_cube(1.0f, 0.5f)));
+    std::vector<NodeId> faces;
+    for (NodeId n = 0; n < h.size(); ++n)
+        if (!h.is_cluster(n)) faces.push_back(n);
+    REQUIRE(faces.size() == 6);
+    NodeValues<1> v;
+    v.extend(h, h.size());
+    std::vector<double> total(h.size(), 0.0);
+    const std::array<double, 6> g{1.225, 0.8, 3.0, 0.25, 1.225, 0.0};
+    const std::array<std::uint8_t, 6> enclosed{1, 1, 1, 1, 0, 1};
+    const std::array<double, 6> scale{1 / 1.225, 1 / 0.8, 0.5, 2.0, 1.0, 1.0};
+    for (std::size_t i = 0; i < 6; ++i) {
+        total[faces[i]] = g[i];
+        v.enclosed[faces[i]] = enclosed[i];
+        v.rho_max[faces[i]] = 0.5;
+    }
+    const HeldRows rows = scale_row_sums(h, v, total, false);
+    CHECK(rows.scaled == 4);  // (a leaf with no links has nothing to scale)
+    CHECK(rows.held == 0);
+    for (std::size_t i = 0; i < 6; ++i) CHECK(v.row_scale[faces[i]] == doctest::Approx(scale[i]));
+    CHECK(rows.norm == doctest::Approx(0.5 * 3.0 * 0.5).epsilon(1e-12));  // the clamped one
 }
 
 TEST_CASE(
@@ -800,7 +894,7 @@ TEST_CASE("sort_by_pair: long lists by radix sort in the order of link_order") {
 TEST_CASE("links that gather more than a leaf can are held: the sweeps converge, B exact") {
     // Two faces of the furnace cube, rho = 0.5, E = 1, linked both ways by a visible transfer
     // of 3: more than any face can gather (a row sum is at most 1). Swept as they are, B grows
-    // by rho g = 1.5 a sweep; with the row sums held (hold_row_sums: s = 1 / g where rho g >=
+    // by rho g = 1.5 a sweep; with the row sums held (scale_row_sums: s = 1 / g where rho g >=
     // 1), each takes s g = 1 of the other's B, and B = E + rho B' has the solution
     // B = E / (1 - rho) = 2 on both. The other faces have no links: B = E = 1.
     const Mesh<Rgb> cube = build_mesh(test::furnace_cube(1.0f, 0.5f));
@@ -824,7 +918,7 @@ TEST_CASE("links that gather more than a leaf can are held: the sweeps converge,
         std::fill(v.B.begin(), v.B.end(), 1.0);
         gather_links(h, links, groups, shares, v);
         push(h, v, total, down);
-        const HeldRows held = hold_row_sums(h, v, total, hold);
+        const HeldRows held = scale_row_sums(h, v, total, hold);
         CHECK(held.held == (hold ? 2u : 0u));
         CHECK(held.norm == test::approx(hold ? 0.5 : 1.5).epsilon(1e-12));
         std::fill(v.B.begin(), v.B.end(), 0.0);

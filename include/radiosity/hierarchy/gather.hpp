@@ -132,9 +132,13 @@ struct NodeValues {
     /// weighted by their A e (facing_classes values per band, class after class; B where the
     /// class is empty): what a link sends from the faces of that class (pull_classes).
     std::vector<double> Bc;
-    /// Per node: what push-pull multiplies a leaf's irradiance by, 1 but where its links' row
-    /// sum is impossible (hold_row_sums).
+    /// Per node: what push-pull multiplies a leaf's irradiance by (scale_row_sums): 1 over its
+    /// links' row sum where it is enclosed (within row_scale_limit), else 1; held where the
+    /// row sum is impossible.
     std::vector<double> row_scale;
+    /// Per node: 1 where a leaf was found enclosed (exposure.hpp: element_enclosed), its
+    /// visible row sum 1; else 0, and 0 until tested.
+    std::vector<std::uint8_t> enclosed;
 
     /// Gives nodes [from, h.size()) their parent's values (new children of a split element).
     void extend(const Hierarchy& h, std::size_t from) {
@@ -153,6 +157,7 @@ struct NodeValues {
         B_max.resize(n, 0.0);
         exposure.resize(n, 1.0);
         row_scale.resize(n, 1.0);  // new nodes: 1 until the next pass's rows are measured
+        enclosed.resize(n, 0);     // and not enclosed until a final pass's leaves are tested
         for (std::size_t i = from; i < n; ++i) {
             const NodeId p = h.parent[i];
             for (std::size_t k = 0; k < K; ++k) {
@@ -449,7 +454,7 @@ inline double larger_change(double change, double moved) {
 }
 
 /// Push-pull: push, then at every leaf B = E + rho s h, with h its pushed irradiance (total)
-/// and s its row_scale (1 but where hold_row_sums bounds it), then pull. Returns the largest
+/// and s its row_scale (scale_row_sums), then pull. Returns the largest
 /// change of a leaf's B (every band; not finite where a B is not). In a fixed order, or with
 /// `levels` shared among threads (push, pull), with the same bits. Cost: O(nodes).
 template <std::size_t K>
@@ -498,36 +503,62 @@ double push_pull(const Hierarchy& h, NodeValues<K>& v, std::vector<double>& tota
     return push_pull(h, v, total, down);
 }
 
-/// What hold_row_sums found: the leaves it held, and ||R G||_inf of the operator.
+/// What scale_row_sums found: the leaves scaled to a row sum of 1, those held, and
+/// ||R G||_inf of the operator.
 struct HeldRows {
-    std::size_t held = 0;  ///< leaves whose row sum was held to 1
-    double norm = 0.0;     ///< max over leaves of rho_max g s: the sweeps' contraction
+    std::size_t scaled = 0;  ///< enclosed leaves whose irradiance was scaled to a row sum of 1
+    std::size_t held = 0;    ///< leaves whose row sum was held to 1
+    double norm = 0.0;       ///< max over leaves of rho_max g s: the sweeps' contraction
 };
 
-/// The row sums g = G 1 of the sweeps' operator B -> E + rho s G B (gather and push, leaf by
-/// leaf; `total`: what push leaves at each leaf when every node and class sends B = 1, the
-/// same for every band), and with `hold` the impossible ones held. A leaf's row sum is the sum
-/// of the visible form factors from its exposed part, at most 1 (it sees no more than a whole
-/// hemisphere). Sampled links scatter it about the true value (4,511 of room3's 10,463 leaves
-/// above 1, the largest 4.3), and the sweeps converge all the same as long as the operator
-/// does; but a cluster link's few samples beside a near face (F / p, with p the face's small
-/// share of the area), divided by a small exposure, gave some leaves of the million-triangle
-/// box at seed 3 a row sum of 4.6 / rho, and the sweeps ran away. Held, a leaf whose
-/// rho_max g >= 1 has its irradiance scaled by s = 1 / g, to the most any leaf can gather;
-/// then every rho g s < 1 and the sweeps converge. Not held, s = 1 everywhere: holding is
-/// for sweeps that run away (HierarchySolve::runs_away), as it also cuts off noise that the
-/// sweeps would average out (room3, of reflectance up to 0.99, has rho g >= 1 at 513 leaves,
-/// and held in every pass it came out 2.4 to 5.6% below the dense solve). Returns the leaves
-/// held and max rho_max g s, the operator's ||R G||_inf. Cost: O(nodes).
+/// How far an enclosed leaf's irradiance is scaled: by at most this factor or its inverse. A
+/// leaf whose links' row sum is off by more than that has lost (or gained) most of its light
+/// to a few sampled links that saw little (or much), and a large scale would only magnify what
+/// those few happened to see. (Room3's surfaces hardly notice: `bench_hierarchy surfaces 4`
+/// puts every surface's median within 0.4% of what no limit gives, and within 0.8% of a limit
+/// of 1.25.)
+inline constexpr double row_scale_limit = 2.0;
+
+/// The row scales s of the leaves. g = G 1 is a leaf's row sum in the sweeps' operator
+/// B -> E + rho s G B (gather and push, leaf by leaf; `total`: what push leaves at each leaf
+/// when every node and class sends B = 1, the same for every band).
+///
+/// Enclosed leaves are scaled to a row sum of 1. The form factors from a leaf's exposed part to
+/// every face it sees sum to the share of its hemisphere that faces cover, sum_j F_ij = 1 in a
+/// closed room: the identity that normalised form factors keep (a hemicube's delta form factors
+/// sum to it). The links' g meets it only on average. Each link is exact on average over its
+/// receiver, but a leaf inherits its ancestors' links, whose transfer falls off across them:
+/// beside a shared edge a coarse link from the next wall carries its mean to a leaf that sees
+/// that wall edge-on and gets nearly nothing from it (a furnace's edge leaf: g = 1.225), and
+/// sampled links scatter g further. Rows too heavy at leaves that face each other across a
+/// corner raise each other, bounce after bounce: a furnace of rho 0.9 came out 6.6% bright,
+/// its edge strips 25%. Where the rays found a leaf enclosed (`enclosed`: element_enclosed, in
+/// the final passes), s = 1 / g, within row_scale_limit: the links keep how the light is shared
+/// among the sources, the identity says how much there is to share. Every furnace is then
+/// exact leaf by leaf. A leaf that sees open space keeps s = 1: its row sum below 1 is known
+/// only to the scatter of a few rays (element_enclosed).
+///
+/// Held. Where g is still impossible with `hold` (rho_max g s >= 1), s = 1 / g, the most any
+/// leaf can gather: a cluster link's few samples beside a near face (F / p, with p the face's
+/// small share of the area), divided by a small exposure, gave some leaves of the
+/// million-triangle box at seed 3 a row sum of 4.6 / rho, and the sweeps ran away. Holding is
+/// for sweeps that run away (HierarchySolve::runs_away); held in every pass, the unscaled rows
+/// of room3, of reflectance up to 0.99, came out 2.4 to 5.6% below the dense solve.
+/// Returns the leaves scaled and held, and max rho_max g s, the operator's ||R G||_inf.
+/// Cost: O(nodes).
 template <std::size_t K>
-HeldRows hold_row_sums(const Hierarchy& h, NodeValues<K>& v, const std::vector<double>& total,
-                       bool hold) {
+HeldRows scale_row_sums(const Hierarchy& h, NodeValues<K>& v, const std::vector<double>& total,
+                        bool hold) {
     HeldRows out;
     for (std::size_t i = 0; i < h.size(); ++i) {
         v.row_scale[i] = 1.0;
         if (!h.is_leaf(static_cast<NodeId>(i))) continue;
         const double g = total[i * K];
-        if (hold && v.rho_max[i] * g >= 1.0) {
+        if (v.enclosed[i] && g > 0.0) {
+            v.row_scale[i] = std::clamp(1.0 / g, 1.0 / row_scale_limit, row_scale_limit);
+            ++out.scaled;
+        }
+        if (hold && v.rho_max[i] * g * v.row_scale[i] >= 1.0) {
             v.row_scale[i] = 1.0 / g;
             ++out.held;
         }

@@ -97,6 +97,8 @@ HierarchicalResult<S> solve_hierarchical(const Mesh<S>& patches, const Hierarchi
     if (o.rays < 1) throw Error("hierarchical radiosity: need at least 1 ray per link");
     if (o.cluster_samples < 1)
         throw Error("hierarchical radiosity: need at least 1 sample per link with a cluster");
+    if (o.enclosure_rays < 0 || o.enclosure_rays > 256)
+        throw Error("hierarchical radiosity: enclosure rays must be between 0 and 256");
     if (o.exposure_samples < 0)
         throw Error("hierarchical radiosity: exposure samples must not be negative");
     if (!(o.shadow_factor > 0.0) || !std::isfinite(o.shadow_factor))
@@ -112,7 +114,8 @@ HierarchicalResult<S> solve_hierarchical(const Mesh<S>& patches, const Hierarchi
         }
     });
     const Bvh scene(solve.hierarchy().roots);
-    if (o.exposure_samples > 0) solve.set_exposure(scene, o.exposure_samples, o.seed);
+    if (o.exposure_samples > 0 || o.enclosure_rays > 0)
+        solve.set_exposure(scene, o.exposure_samples, o.seed);
     HierarchicalResult<S> result;
     result.report = solve.run(scene, tolerance, max_iterations, progress, result.hierarchy);
     const Hierarchy& h = solve.hierarchy();

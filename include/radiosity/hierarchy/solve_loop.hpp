@@ -43,7 +43,7 @@ struct SolveState {
     std::uint64_t splits = 0, settled = 0, open = 0;  ///< RefineRound's counts
     std::uint32_t sweeps_done = 0;                    ///< 1: this pass's sweeps have met their rule
     std::uint32_t converged = 0;                      ///< the last sweep's Report::converged
-    /// 1: this pass's sweeps ran away and its impossible row sums are held (hold_row_sums)
+    /// 1: this pass's sweeps ran away and its impossible row sums are held (scale_row_sums)
     std::uint32_t held = 0;
     std::uint32_t unused = 0;  ///< (keeps the layout free of padding: it is written as bytes)
     double residual = 0.0;     ///< the last sweep's Report::residual
@@ -118,7 +118,8 @@ class HierarchySolve {
 
     /// Measures exposure (exposure.hpp) from now on: `points` sample points per element, rays
     /// through `scene`; the roots at once, each new leaf when a refinement pass ends. 0 points:
-    /// every node counts as wholly exposed.
+    /// every node counts as wholly exposed. The leaves' enclosure tests (refresh_enclosure) take
+    /// their rays through `scene` too.
     void set_exposure(const Bvh& scene, int points, std::uint64_t seed) {
         exposure_scene_ = &scene;
         exposure_points_ = points;
@@ -168,6 +169,7 @@ class HierarchySolve {
                 if (final && (state_.splits == 0 || state_.pass + 1 == passes)) drop_dark_links();
             }
             refresh_exposure();  // the pass's new leaves (or, resumed, the replayed ones)
+            if (final) refresh_enclosure();
             const auto t0 = std::chrono::steady_clock::now();
             if (!state_.sweeps_done)  // (a checkpoint taken after the pass's last sweep)
                 iterate(scene, final ? tolerance : std::max(tolerance, 1e-2), max_iterations,
@@ -215,7 +217,7 @@ class HierarchySolve {
              {o_.link_error, o_.min_area, tolerance, o_.shadow_factor, o_.coarse_factor})
             f.add_value(x);
         for (const int x : {o_.rays, o_.cluster_samples, o_.max_depth, o_.coarse_passes,
-                            o_.max_final_passes, o_.exposure_samples})
+                            o_.max_final_passes, o_.exposure_samples, o_.enclosure_rays})
             f.add_value(x);
         f.add_value(o_.seed);
         f.add_value(std::uint64_t(max_iterations));
@@ -352,26 +354,50 @@ class HierarchySolve {
         compute_seconds_ += share.compute_seconds;
     }
 
-    /// Measures the exposure of the element leaves not measured yet, each rank an equal share
-    /// of them (the values gathered to all), and sets every node with children to its
-    /// children's mean. Cost: the fresh leaves' rays, divided among the ranks; O(nodes).
+    /// Measures the exposure of the element leaves not measured yet (measure_fresh), and sets
+    /// every node with children to its children's mean. Cost: the fresh leaves' rays, divided
+    /// among the ranks; O(nodes).
     void refresh_exposure() {
         if (exposure_scene_ == nullptr || exposure_points_ <= 0) return;
-        measured_.resize(h_.size(), 0);
+        const bool any = measure_fresh(measured_, v_.exposure, [&](std::span<const NodeId> nodes) {
+            return element_exposures(h_, *exposure_scene_, exposure_points_, exposure_seed_, nodes);
+        });
+        if (any) mean_exposure(h_, v_.exposure);
+    }
+
+    /// Tests the element leaves not tested yet for enclosure (element_enclosed; measure_fresh):
+    /// the sweeps scale an enclosed leaf's irradiance to a row sum of 1 (scale_row_sums). Only
+    /// in the final passes: the coarse ones only show the oracle where light goes, and most of
+    /// their leaves are split again. Cost: up to enclosure_rays closest-hit queries per fresh
+    /// leaf, divided among the ranks.
+    void refresh_enclosure() {
+        if (exposure_scene_ == nullptr || o_.enclosure_rays <= 0) return;
+        measure_fresh(enclosure_tested_, v_.enclosed, [&](std::span<const NodeId> nodes) {
+            return elements_enclosed(h_, *exposure_scene_, o_.enclosure_rays, exposure_seed_,
+                                     nodes);
+        });
+    }
+
+    /// Measures f of the element leaves not flagged in `measured` into `values`, each rank an
+    /// equal share of them (the values gathered to all), and flags them. f(nodes) gives one
+    /// value per node, a pure function of the node and the seed, so the values never depend on
+    /// the ranks or threads. Returns whether any leaf was measured.
+    template <class T, class F>
+    bool measure_fresh(std::vector<std::uint8_t>& measured, std::vector<T>& values, const F& f) {
+        measured.resize(h_.size(), 0);
         std::vector<NodeId> fresh;
         for (NodeId n = 0; n < h_.size(); ++n)
-            if (!measured_[n] && !h_.is_cluster(n) && h_.is_leaf(n)) fresh.push_back(n);
-        if (fresh.empty()) return;
+            if (!measured[n] && !h_.is_cluster(n) && h_.is_leaf(n)) fresh.push_back(n);
+        if (fresh.empty()) return false;
         const std::size_t ranks = std::size_t(comm_->size()), me = std::size_t(comm_->rank());
         const std::size_t first = fresh.size() * me / ranks, last = fresh.size() * (me + 1) / ranks;
-        const std::vector<double> values = all_gather(
-            *comm_, element_exposures(h_, *exposure_scene_, exposure_points_, exposure_seed_,
-                                      std::span<const NodeId>(fresh).subspan(first, last - first)));
+        const std::vector<T> got =
+            all_gather(*comm_, f(std::span<const NodeId>(fresh).subspan(first, last - first)));
         for (std::size_t i = 0; i < fresh.size(); ++i) {
-            v_.exposure[fresh[i]] = values[i];
-            measured_[fresh[i]] = 1;
+            values[fresh[i]] = got[i];
+            measured[fresh[i]] = 1;
         }
-        mean_exposure(h_, v_.exposure);
+        return true;
     }
 
     /// Gives nodes [from, size) their parent's values; refuses a hierarchy past the memory
@@ -469,11 +495,11 @@ class HierarchySolve {
         });
     }
 
-    /// The row sums g of the pass's operator (hold_row_sums), from one sweep's gather and push
-    /// with every node and class sending B = 1 (B and Bc kept aside and put back; H and Hc are
-    /// the next gather's to overwrite); with `hold`, the impossible ones held. Sets q_rows_,
-    /// the stopping rule's contraction, exact for the operator the sweeps then apply. Cost: one
-    /// sweep.
+    /// The row sums g of the pass's operator, and the leaves' scales (scale_row_sums), from one
+    /// sweep's gather and push with every node and class sending B = 1 (B and Bc kept aside and put
+    /// back; H and Hc are the next gather's to overwrite); with `hold`, the impossible ones held.
+    /// Sets q_rows_, the stopping rule's contraction, exact for the operator the sweeps then apply.
+    /// Cost: one sweep.
     void row_sums(const LinkGroups& groups, ReceiverExchange& exchange, std::vector<double>& total,
                   std::vector<double>& down, bool hold, HierarchyReport& hr) {
         std::vector<double> B(v_.B.size(), 1.0), Bc(v_.Bc.size(), 1.0);
@@ -484,16 +510,17 @@ class HierarchySolve {
         push(h_, v_, total, down, &levels_);
         std::swap(B, v_.B);
         std::swap(Bc, v_.Bc);
-        const HeldRows held = hold_row_sums(h_, v_, total, hold);
+        const HeldRows held = scale_row_sums(h_, v_, total, hold);
         q_rows_ = held.norm;
         hr.held_rows = held.held;
+        hr.scaled_rows = held.scaled;
     }
 
     /// Whether the sweeps run away: the brightest leaf past E_max / (1 - rho_max), which bounds
     /// every solution of B = E + rho F B whose row sums are at most 1 (and every sweep from
     /// below it: B' <= E_max + rho_max ||B||), and the change growing, in this sweep (`change`)
     /// and the three before. Links whose estimated row sums pass 1 / rho at some leaves
-    /// (hold_row_sums) get there; but the bound alone is passed by mere noise too (a furnace of
+    /// (scale_row_sums) get there; but the bound alone is passed by mere noise too (a furnace of
     /// rho 0.9 with two blocks, 18,520 triangles, sampled once per cluster link: leaves at 1.7
     /// to 2.4 times its exact B at every seed, with the walls' mean within 4% of it), where the
     /// sweeps converge and holding would bias them (the walls came out 7.6 to 10.1% dark). Never
@@ -632,8 +659,9 @@ class HierarchySolve {
     const Bvh* exposure_scene_ = nullptr;   // rays for exposure (set_exposure); null: none
     int exposure_points_ = 0;
     std::uint64_t exposure_seed_ = 0;
-    std::vector<std::uint8_t> measured_;  // per node: exposure measured (element leaves)
-    double compute_seconds_ = 0.0;        // judging and evaluating links, this rank
+    std::vector<std::uint8_t> measured_;          // per node: exposure measured (element leaves)
+    std::vector<std::uint8_t> enclosure_tested_;  // per node: enclosure tested (element leaves)
+    double compute_seconds_ = 0.0;                // judging and evaluating links, this rank
     std::uint64_t hash_ = 0;
     std::size_t checkpoints_ = 0;
     bool stop_ = false;  // the progress callback asked to stop (acted on at the next safe point)
