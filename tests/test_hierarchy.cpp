@@ -193,7 +193,7 @@ TEST_CASE("enclosure: every ray from the exposed part meets a face's front, or n
     CHECK(!element_enclosed(ho, bo, element_of_face(ho, 0), 64, 1));
 }
 
-TEST_CASE("scale_row_sums: an enclosed leaf to a row sum of 1, within a factor 2; others not") {
+TEST_CASE("scale_row_sums: an enclosed leaf to a row sum of 1, within a factor 2, others not") {
     // The six faces of the furnace cube as leaves, with row sums g (what push leaves when every
     // node sends B = 1) set by hand: enclosed ones are scaled by 1 / g, at most by
     // row_scale_limit either way; the rest keep 1.

@@ -54,27 +54,37 @@ inline constexpr int exposure_strata = 8;
 /// Whether the scene is seen from point x of element n (normal nrm, tangents t1, t2, its root
 /// `own`): up to exposure_rays_per_point cosine-weighted rays (Malley's method), the first that
 /// meets a face's front or nothing settling it. Contact: a face within eps of x along the ray
-/// (either side, the own root skipped) is pressed against it, and no light comes between.
+/// (either side, the own root skipped) is pressed against it, and no light comes between. If
+/// the point is exposed and one of its rays met something other than a face's front (nothing,
+/// a back, a face in contact), *open is set: the point is not enclosed (element_enclosed).
 inline bool point_exposed(const Hierarchy& h, const Bvh& bvh, const Vec3& x, const Vec3& nrm,
-                          const Vec3& t1, const Vec3& t2, std::uint32_t own, double eps, Rng& rng) {
+                          const Vec3& t1, const Vec3& t2, std::uint32_t own, double eps, Rng& rng,
+                          bool* open = nullptr) {
+    bool missed_front = false;
     for (int k = 0; k < exposure_rays_per_point; ++k) {
         const double a = rng.uniform(), phi = 2.0 * std::numbers::pi * rng.uniform();
         const Vec3 d =
             std::sqrt(a) * (std::cos(phi) * t1 + std::sin(phi) * t2) + std::sqrt(1.0 - a) * nrm;
         const auto hit = bvh.intersect(x, d, -eps, std::numeric_limits<double>::infinity(), own);
-        if (!hit || (hit->t > eps && glm::dot(h.roots.normal(hit->patch), d) < 0.0)) return true;
+        const bool front = hit && hit->t > eps && glm::dot(h.roots.normal(hit->patch), d) < 0.0;
+        if (!hit || front) {
+            if (open != nullptr && (!hit || missed_front)) *open = true;
+            return true;
+        }
+        missed_front = true;
     }
     return false;
 }
 
 /// Exposure of element n in [0, 1]: the share of sample points, uniform in area, from which
 /// the scene is seen (point_exposed): `points` independent ones, and where they disagree (the
-/// element is partly hidden) the share of exposure_strata^2 jittered ones instead. Seeded by
-/// the node's key and `seed`. Cost: about `points` closest-hit queries for an exposed element,
-/// 4 x that for a hidden one, and 64 more points for one partly hidden (a wall where a pillar
-/// meets it).
+/// element is partly hidden) the share of exposure_strata^2 jittered ones instead. *open is set
+/// if a ray from an exposed point met anything but a face's front: the element is then not
+/// enclosed (element_enclosed), whose test it spares. Seeded by the node's key and `seed`.
+/// Cost: about `points` closest-hit queries for an exposed element, 4 x that for a hidden one,
+/// and 64 more points for one partly hidden (a wall where a pillar meets it).
 inline double element_exposure(const Hierarchy& h, const Bvh& bvh, NodeId n, int points,
-                               std::uint64_t seed) {
+                               std::uint64_t seed, bool* open = nullptr) {
     Rng rng(splitmix64(seed ^ (0x5eedull << 40) ^ splitmix64(h.key[n])));
     const Vec3 nrm = h.normal[n];
     const Vec3 t1 = glm::normalize(std::abs(nrm.x) < 0.9 ? glm::cross(nrm, Vec3(1, 0, 0))
@@ -87,17 +97,15 @@ inline double element_exposure(const Hierarchy& h, const Bvh& bvh, NodeId n, int
     for (int p = 0; p < points; ++p) {
         const double u = rng.uniform();
         const Vec3 x = detail::polygon_point(polygon, u, rng.uniform());
-        seen += point_exposed(h, bvh, x, nrm, t1, t2, own, eps, rng) ? 1 : 0;
+        seen += point_exposed(h, bvh, x, nrm, t1, t2, own, eps, rng, open) ? 1 : 0;
     }
     if (seen == 0 || seen == points) return double(seen) / double(points);
     constexpr int k = exposure_strata;
     seen = 0;
     for (int i = 0; i < k * k; ++i) {  // cell (i / k, i % k) of the unit square, jittered
         const double u = (i / k + rng.uniform()) / k, v = (i % k + rng.uniform()) / k;
-        seen +=
-            point_exposed(h, bvh, detail::polygon_point(polygon, u, v), nrm, t1, t2, own, eps, rng)
-                ? 1
-                : 0;
+        const Vec3 x = detail::polygon_point(polygon, u, v);
+        seen += point_exposed(h, bvh, x, nrm, t1, t2, own, eps, rng, open) ? 1 : 0;
     }
     return double(seen) / double(k * k);
 }
@@ -155,18 +163,23 @@ inline bool element_enclosed(const Hierarchy& h, const Bvh& bvh, NodeId n, int r
     return exposed;
 }
 
-/// element_enclosed of each element of `nodes` (1 or 0), in their order, in parallel. Cost:
-/// their rays.
+/// element_enclosed of each element of `nodes` (1 or 0), in their order, in parallel; an element
+/// whose exposure test found it open (`open`, per node id, if not empty) is not enclosed without
+/// more rays. Cost: their rays (in an open scene most elements are found open by exposure: the
+/// Cornell box as a million triangles, ... ).
 inline std::vector<std::uint8_t> elements_enclosed(const Hierarchy& h, const Bvh& bvh, int rays,
                                                    std::uint64_t seed,
-                                                   std::span<const NodeId> nodes) {
+                                                   std::span<const NodeId> nodes,
+                                                   std::span<const std::uint8_t> open = {}) {
     std::vector<std::uint8_t> out(nodes.size(), 0);
     const auto count = static_cast<std::int64_t>(nodes.size());
 #if defined(RADIOSITY_WITH_OPENMP)
 #pragma omp parallel for schedule(dynamic, 64)
 #endif
-    for (std::int64_t i = 0; i < count; ++i)
-        out[std::size_t(i)] = element_enclosed(h, bvh, nodes[std::size_t(i)], rays, seed) ? 1 : 0;
+    for (std::int64_t i = 0; i < count; ++i) {
+        const NodeId n = nodes[std::size_t(i)];
+        if (open.empty() || !open[n]) out[std::size_t(i)] = element_enclosed(h, bvh, n, rays, seed);
+    }
     return out;
 }
 
@@ -183,16 +196,28 @@ inline void mean_exposure(const Hierarchy& h, std::vector<double>& exposure) {
     }
 }
 
+/// What the exposure test finds of an element: its exposure, and whether a ray from an exposed
+/// point met anything but a face's front (then it is not enclosed).
+struct ElementExposure {
+    double share = 1.0;
+    std::uint8_t open = 0;
+};
+
 /// element_exposure of each element of `nodes`, in their order, in parallel. Cost: their rays.
-inline std::vector<double> element_exposures(const Hierarchy& h, const Bvh& bvh, int points,
-                                             std::uint64_t seed, std::span<const NodeId> nodes) {
-    std::vector<double> out(nodes.size(), 1.0);
+inline std::vector<ElementExposure> element_exposures(const Hierarchy& h, const Bvh& bvh,
+                                                      int points, std::uint64_t seed,
+                                                      std::span<const NodeId> nodes) {
+    std::vector<ElementExposure> out(nodes.size());
     const auto count = static_cast<std::int64_t>(nodes.size());
 #if defined(RADIOSITY_WITH_OPENMP)
 #pragma omp parallel for schedule(dynamic, 64)
 #endif
-    for (std::int64_t i = 0; i < count; ++i)
-        out[std::size_t(i)] = element_exposure(h, bvh, nodes[std::size_t(i)], points, seed);
+    for (std::int64_t i = 0; i < count; ++i) {
+        bool open = false;
+        ElementExposure& e = out[std::size_t(i)];
+        e.share = element_exposure(h, bvh, nodes[std::size_t(i)], points, seed, &open);
+        e.open = open ? 1 : 0;
+    }
     return out;
 }
 

@@ -359,31 +359,44 @@ class HierarchySolve {
     /// among the ranks; O(nodes).
     void refresh_exposure() {
         if (exposure_scene_ == nullptr || exposure_points_ <= 0) return;
-        const bool any = measure_fresh(measured_, v_.exposure, [&](std::span<const NodeId> nodes) {
-            return element_exposures(h_, *exposure_scene_, exposure_points_, exposure_seed_, nodes);
-        });
+        open_.resize(h_.size(), 0);
+        const bool any = measure_fresh(
+            measured_,
+            [&](std::span<const NodeId> nodes) {
+                return element_exposures(h_, *exposure_scene_, exposure_points_, exposure_seed_,
+                                         nodes);
+            },
+            [&](NodeId n, const ElementExposure& e) {
+                v_.exposure[n] = e.share;
+                open_[n] = e.open;
+            });
         if (any) mean_exposure(h_, v_.exposure);
     }
 
     /// Tests the element leaves not tested yet for enclosure (element_enclosed; measure_fresh):
     /// the sweeps scale an enclosed leaf's irradiance to a row sum of 1 (scale_row_sums). Only
     /// in the final passes: the coarse ones only show the oracle where light goes, and most of
-    /// their leaves are split again. Cost: up to enclosure_rays closest-hit queries per fresh
-    /// leaf, divided among the ranks.
+    /// their leaves are split again. A leaf whose exposure rays met open space or a back is not
+    /// enclosed without more rays. Cost: up to enclosure_rays closest-hit queries per fresh
+    /// leaf that exposure did not find open, divided among the ranks.
     void refresh_enclosure() {
         if (exposure_scene_ == nullptr || o_.enclosure_rays <= 0) return;
-        measure_fresh(enclosure_tested_, v_.enclosed, [&](std::span<const NodeId> nodes) {
-            return elements_enclosed(h_, *exposure_scene_, o_.enclosure_rays, exposure_seed_,
-                                     nodes);
-        });
+        open_.resize(h_.size(), 0);  // (0, unknown, without exposure)
+        measure_fresh(
+            enclosure_tested_,
+            [&](std::span<const NodeId> nodes) {
+                return elements_enclosed(h_, *exposure_scene_, o_.enclosure_rays, exposure_seed_,
+                                         nodes, open_);
+            },
+            [&](NodeId n, std::uint8_t enclosed) { v_.enclosed[n] = enclosed; });
     }
 
-    /// Measures f of the element leaves not flagged in `measured` into `values`, each rank an
-    /// equal share of them (the values gathered to all), and flags them. f(nodes) gives one
-    /// value per node, a pure function of the node and the seed, so the values never depend on
-    /// the ranks or threads. Returns whether any leaf was measured.
-    template <class T, class F>
-    bool measure_fresh(std::vector<std::uint8_t>& measured, std::vector<T>& values, const F& f) {
+    /// Measures f of the element leaves not flagged in `measured`, each rank an equal share of
+    /// them (the values gathered to all), hands each to store(node, value) and flags them.
+    /// f(nodes) gives one value per node, a pure function of the node and the seed, so the
+    /// values never depend on the ranks or threads. Returns whether any leaf was measured.
+    template <class F, class Store>
+    bool measure_fresh(std::vector<std::uint8_t>& measured, const F& f, const Store& store) {
         measured.resize(h_.size(), 0);
         std::vector<NodeId> fresh;
         for (NodeId n = 0; n < h_.size(); ++n)
@@ -391,10 +404,10 @@ class HierarchySolve {
         if (fresh.empty()) return false;
         const std::size_t ranks = std::size_t(comm_->size()), me = std::size_t(comm_->rank());
         const std::size_t first = fresh.size() * me / ranks, last = fresh.size() * (me + 1) / ranks;
-        const std::vector<T> got =
+        const auto got =
             all_gather(*comm_, f(std::span<const NodeId>(fresh).subspan(first, last - first)));
         for (std::size_t i = 0; i < fresh.size(); ++i) {
-            values[fresh[i]] = got[i];
+            store(fresh[i], got[i]);
             measured[fresh[i]] = 1;
         }
         return true;
@@ -661,7 +674,8 @@ class HierarchySolve {
     std::uint64_t exposure_seed_ = 0;
     std::vector<std::uint8_t> measured_;          // per node: exposure measured (element leaves)
     std::vector<std::uint8_t> enclosure_tested_;  // per node: enclosure tested (element leaves)
-    double compute_seconds_ = 0.0;                // judging and evaluating links, this rank
+    std::vector<std::uint8_t> open_;  // per node: its exposure rays met open space or a back
+    double compute_seconds_ = 0.0;    // judging and evaluating links, this rank
     std::uint64_t hash_ = 0;
     std::size_t checkpoints_ = 0;
     bool stop_ = false;  // the progress callback asked to stop (acted on at the next safe point)
