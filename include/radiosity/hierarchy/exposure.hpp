@@ -165,8 +165,8 @@ inline bool element_enclosed(const Hierarchy& h, const Bvh& bvh, NodeId n, int r
 
 /// element_enclosed of each element of `nodes` (1 or 0), in their order, in parallel; an element
 /// whose exposure test found it open (`open`, per node id, if not empty) is not enclosed without
-/// more rays. Cost: their rays (in an open scene most elements are found open by exposure: the
-/// Cornell box as a million triangles, ... ).
+/// more rays. Cost: their rays; in an open scene exposure finds most elements open (the Cornell
+/// box as a million triangles: 765,000 of its 1,026,732 leaves).
 inline std::vector<std::uint8_t> elements_enclosed(const Hierarchy& h, const Bvh& bvh, int rays,
                                                    std::uint64_t seed,
                                                    std::span<const NodeId> nodes,
