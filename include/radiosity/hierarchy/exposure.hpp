@@ -51,22 +51,52 @@ inline constexpr int exposure_rays_per_point = 4;
 /// preserving area, so equal cells of the square are equal parts of the element.)
 inline constexpr int exposure_strata = 8;
 
-/// Whether the scene is seen from point x of element n (normal nrm, tangents t1, t2, its root
-/// `own`): up to exposure_rays_per_point cosine-weighted rays (Malley's method), the first that
-/// meets a face's front or nothing settling it. Contact: a face within eps of x along the ray
-/// (either side, the own root skipped) is pressed against it, and no light comes between. If
-/// the point is exposed and one of its rays met something other than a face's front (nothing,
-/// a back, a face in contact), *open is set: the point is not enclosed (element_enclosed).
-inline bool point_exposed(const Hierarchy& h, const Bvh& bvh, const Vec3& x, const Vec3& nrm,
-                          const Vec3& t1, const Vec3& t2, std::uint32_t own, double eps, Rng& rng,
-                          bool* open = nullptr) {
+/// What the rays from an element's points need: its normal and two tangents (the frame of the
+/// cosine-weighted directions), its root (which the rays skip), the distance within which a
+/// face is in contact, and its polygon.
+struct ElementFrame {
+    Vec3 normal, t1, t2;
+    std::uint32_t own;
+    double eps;
+    std::span<const Vec3> polygon;
+};
+
+/// The frame of element n.
+inline ElementFrame element_frame(const Hierarchy& h, NodeId n) {
+    const Vec3 nrm = h.normal[n];
+    const Vec3 t1 = glm::normalize(std::abs(nrm.x) < 0.9 ? glm::cross(nrm, Vec3(1, 0, 0))
+                                                         : glm::cross(nrm, Vec3(0, 1, 0)));
+    return {nrm,
+            t1,
+            glm::cross(nrm, t1),
+            h.root_of(n),
+            1e-9 * (h.radius[0] + glm::length(h.centre[0]) + 1.0),
+            h.polygon(n)};
+}
+
+/// The cosine-weighted direction about frame f's normal of the point (a, phi) of the unit disc
+/// in polar form (r^2 = a), by Malley's method: a uniform point of the disc, lifted to the
+/// hemisphere, is a direction of density cos(theta) / pi.
+inline Vec3 cosine_direction(const ElementFrame& f, double a, double phi) {
+    return std::sqrt(a) * (std::cos(phi) * f.t1 + std::sin(phi) * f.t2) +
+           std::sqrt(1.0 - a) * f.normal;
+}
+
+/// Whether the scene is seen from point x of the element of frame f: up to
+/// exposure_rays_per_point cosine-weighted rays, the first that meets a face's front or nothing
+/// settling it. Contact: a face within f.eps of x along the ray (either side, the own root
+/// skipped) is pressed against it, and no light comes between. If the point is exposed and one
+/// of its rays met something other than a face's front (nothing, a back, a face in contact),
+/// *open is set: the point is not enclosed (element_enclosed).
+inline bool point_exposed(const Hierarchy& h, const Bvh& bvh, const Vec3& x, const ElementFrame& f,
+                          Rng& rng, bool* open = nullptr) {
     bool missed_front = false;
     for (int k = 0; k < exposure_rays_per_point; ++k) {
-        const double a = rng.uniform(), phi = 2.0 * std::numbers::pi * rng.uniform();
-        const Vec3 d =
-            std::sqrt(a) * (std::cos(phi) * t1 + std::sin(phi) * t2) + std::sqrt(1.0 - a) * nrm;
-        const auto hit = bvh.intersect(x, d, -eps, std::numeric_limits<double>::infinity(), own);
-        const bool front = hit && hit->t > eps && glm::dot(h.roots.normal(hit->patch), d) < 0.0;
+        const double a = rng.uniform();
+        const Vec3 d = cosine_direction(f, a, 2.0 * std::numbers::pi * rng.uniform());
+        const auto hit =
+            bvh.intersect(x, d, -f.eps, std::numeric_limits<double>::infinity(), f.own);
+        const bool front = hit && hit->t > f.eps && glm::dot(h.roots.normal(hit->patch), d) < 0.0;
         if (!hit || front) {
             if (open != nullptr && (!hit || missed_front)) *open = true;
             return true;
@@ -86,26 +116,20 @@ inline bool point_exposed(const Hierarchy& h, const Bvh& bvh, const Vec3& x, con
 inline double element_exposure(const Hierarchy& h, const Bvh& bvh, NodeId n, int points,
                                std::uint64_t seed, bool* open = nullptr) {
     Rng rng(splitmix64(seed ^ (0x5eedull << 40) ^ splitmix64(h.key[n])));
-    const Vec3 nrm = h.normal[n];
-    const Vec3 t1 = glm::normalize(std::abs(nrm.x) < 0.9 ? glm::cross(nrm, Vec3(1, 0, 0))
-                                                         : glm::cross(nrm, Vec3(0, 1, 0)));
-    const Vec3 t2 = glm::cross(nrm, t1);
-    const double eps = 1e-9 * (h.radius[0] + glm::length(h.centre[0]) + 1.0);
-    const std::uint32_t own = h.root_of(n);
-    const auto polygon = h.polygon(n);
+    const ElementFrame f = element_frame(h, n);
     int seen = 0;
     for (int p = 0; p < points; ++p) {
         const double u = rng.uniform();
-        const Vec3 x = detail::polygon_point(polygon, u, rng.uniform());
-        seen += point_exposed(h, bvh, x, nrm, t1, t2, own, eps, rng, open) ? 1 : 0;
+        const Vec3 x = detail::polygon_point(f.polygon, u, rng.uniform());
+        seen += point_exposed(h, bvh, x, f, rng, open) ? 1 : 0;
     }
     if (seen == 0 || seen == points) return double(seen) / double(points);
     constexpr int k = exposure_strata;
     seen = 0;
     for (int i = 0; i < k * k; ++i) {  // cell (i / k, i % k) of the unit square, jittered
         const double u = (i / k + rng.uniform()) / k, v = (i % k + rng.uniform()) / k;
-        const Vec3 x = detail::polygon_point(polygon, u, v);
-        seen += point_exposed(h, bvh, x, nrm, t1, t2, own, eps, rng, open) ? 1 : 0;
+        const Vec3 x = detail::polygon_point(f.polygon, u, v);
+        seen += point_exposed(h, bvh, x, f, rng, open) ? 1 : 0;
     }
     return double(seen) / double(k * k);
 }
@@ -135,28 +159,20 @@ inline bool element_enclosed(const Hierarchy& h, const Bvh& bvh, NodeId n, int r
     for (int m = k * k; m > 1; --m)  // Fisher-Yates (Knuth 1969)
         std::swap(strata[std::size_t(m - 1)],
                   strata[static_cast<std::size_t>(rng.uniform() * double(m))]);
-    const Vec3 nrm = h.normal[n];
-    const Vec3 t1 = glm::normalize(std::abs(nrm.x) < 0.9 ? glm::cross(nrm, Vec3(1, 0, 0))
-                                                         : glm::cross(nrm, Vec3(0, 1, 0)));
-    const Vec3 t2 = glm::cross(nrm, t1);
-    const double eps = 1e-9 * (h.radius[0] + glm::length(h.centre[0]) + 1.0);
-    const std::uint32_t own = h.root_of(n);
-    const auto polygon = h.polygon(n);
+    const ElementFrame f = element_frame(h, n);
     bool exposed = false;
     for (int i = 0; i < k * k; ++i) {
         const int j = strata[std::size_t(i)];
         const double u = (i / k + rng.uniform()) / k, v = (i % k + rng.uniform()) / k;
-        const Vec3 x = detail::polygon_point(polygon, u, v);
-        // Malley's method: a uniform point of the unit disc (polar strata: r^2 and the angle),
-        // lifted to the hemisphere, is a direction of density cos(theta) / pi.
+        const Vec3 x = detail::polygon_point(f.polygon, u, v);
+        // The direction from stratum j of the disc in polar form: (r^2, angle) on a k x k grid.
         const double a = (j / k + rng.uniform()) / k;
-        const double phi = 2.0 * std::numbers::pi * (j % k + rng.uniform()) / k;
-        const Vec3 d =
-            std::sqrt(a) * (std::cos(phi) * t1 + std::sin(phi) * t2) + std::sqrt(1.0 - a) * nrm;
-        const auto hit = bvh.intersect(x, d, -eps, std::numeric_limits<double>::infinity(), own);
-        if (hit && hit->t > eps && glm::dot(h.roots.normal(hit->patch), d) < 0.0) {
+        const Vec3 d = cosine_direction(f, a, 2.0 * std::numbers::pi * (j % k + rng.uniform()) / k);
+        const auto hit =
+            bvh.intersect(x, d, -f.eps, std::numeric_limits<double>::infinity(), f.own);
+        if (hit && hit->t > f.eps && glm::dot(h.roots.normal(hit->patch), d) < 0.0) {
             exposed = true;  // a front: the point sees the scene
-        } else if (point_exposed(h, bvh, x, nrm, t1, t2, own, eps, rng)) {
+        } else if (point_exposed(h, bvh, x, f, rng)) {
             return false;  // open space or a back, seen from an exposed point
         }
     }
