@@ -955,6 +955,8 @@ TEST_CASE("bad options are refused with what is wrong") {
     CHECK_THROWS_AS(solve_hierarchical<Rgb>(cube, {.min_area = -1.0}), Error);
     CHECK_THROWS_AS(solve_hierarchical<Rgb>(cube, {.rays = 0}), Error);
     CHECK_THROWS_AS(solve_hierarchical<Rgb>(cube, {.coarse_factor = 0.5}), Error);
+    CHECK_THROWS_AS(solve_hierarchical<Rgb>(cube, {.enclosure_rays = -1}), Error);
+    CHECK_THROWS_AS(solve_hierarchical<Rgb>(cube, {.enclosure_rays = 257}), Error);
     // A memory limit the hierarchy must pass is an Error naming what to change, not a crash.
     try {
         solve_hierarchical<Rgb>(cube, {.link_error = 1e-9, .min_area = 1e-9, .max_bytes = 100000});
