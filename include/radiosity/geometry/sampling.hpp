@@ -6,6 +6,7 @@
 #include <radiosity/geometry/vec.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <span>
@@ -71,6 +72,24 @@ inline void stratified_points(std::span<const Vec3> poly, int k, Rng& rng, std::
 /// so a pair's estimate is the same whichever row, thread or order asks for it.
 inline std::uint64_t pair_seed(std::uint64_t seed, std::size_t a, std::size_t b) {
     return splitmix64(splitmix64(seed) ^ ((static_cast<std::uint64_t>(a) << 32) ^ b));
+}
+
+/// The side k of the square grid of strata for `samples` samples: round(sqrt(samples)), 1 to
+/// 16 (shuffled_strata's limit).
+inline int strata_side(int samples) {
+    return std::clamp(static_cast<int>(std::lround(std::sqrt(double(samples)))), 1, 16);
+}
+
+/// The strata 0 .. k^2 - 1 of a k x k grid (k at most 16) in random order (Fisher-Yates; Knuth
+/// 1969), so that stratum i of one grid meets stratum order[i] of another, as jittered_pairs
+/// pairs its points. No allocation.
+inline std::array<std::uint16_t, 256> shuffled_strata(int k, Rng& rng) {
+    std::array<std::uint16_t, 256> order;
+    for (int i = 0; i < k * k; ++i) order[std::size_t(i)] = static_cast<std::uint16_t>(i);
+    for (int m = k * k; m > 1; --m)
+        std::swap(order[std::size_t(m - 1)],
+                  order[static_cast<std::size_t>(rng.uniform() * double(m))]);
+    return order;
 }
 
 /// k x k stratified, jittered sample pairs: xs on polygon a, ys on polygon b, the strata of b

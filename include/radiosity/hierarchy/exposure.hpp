@@ -26,7 +26,6 @@
 #include <radiosity/hierarchy/nodes.hpp>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -153,12 +152,8 @@ inline double element_exposure(const Hierarchy& h, const Bvh& bvh, NodeId n, int
 inline bool element_enclosed(const Hierarchy& h, const Bvh& bvh, NodeId n, int rays,
                              std::uint64_t seed) {
     Rng rng(splitmix64(seed ^ (0x7011ull << 40) ^ splitmix64(h.key[n])));
-    const int k = std::clamp(static_cast<int>(std::lround(std::sqrt(double(rays)))), 1, 16);
-    std::array<std::uint16_t, 256> strata;
-    for (int i = 0; i < k * k; ++i) strata[std::size_t(i)] = static_cast<std::uint16_t>(i);
-    for (int m = k * k; m > 1; --m)  // Fisher-Yates (Knuth 1969)
-        std::swap(strata[std::size_t(m - 1)],
-                  strata[static_cast<std::size_t>(rng.uniform() * double(m))]);
+    const int k = strata_side(rays);
+    const auto strata = shuffled_strata(k, rng);
     const ElementFrame f = element_frame(h, n);
     bool exposed = false;
     for (int i = 0; i < k * k; ++i) {

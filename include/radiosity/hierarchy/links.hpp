@@ -634,13 +634,9 @@ template <Visibility V>
 double link_visibility(const Hierarchy& h, const V& scene, NodeId r, NodeId s, int rays,
                        std::uint64_t seed) {
     Rng rng(splitmix64(seed ^ splitmix64(h.key[r]) ^ (splitmix64(h.key[s]) >> 1)));
-    const int k = std::clamp(static_cast<int>(std::lround(std::sqrt(double(rays)))), 1, 16);
+    const int k = strata_side(rays);
     const int n = k * k;
-    std::array<std::uint16_t, 256> strata;
-    for (int i = 0; i < n; ++i) strata[std::size_t(i)] = static_cast<std::uint16_t>(i);
-    for (int m = n; m > 1; --m)  // Fisher-Yates (Knuth 1969)
-        std::swap(strata[std::size_t(m - 1)],
-                  strata[static_cast<std::size_t>(rng.uniform() * double(m))]);
+    const auto strata = shuffled_strata(k, rng);
     const auto pr = h.polygon(r), ps = h.polygon(s);
     const std::uint32_t a = h.root_of(r), b = h.root_of(s);
     VisibilitySums sums;
