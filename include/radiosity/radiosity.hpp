@@ -28,6 +28,7 @@
 #include <radiosity/hierarchy/links.hpp>
 #include <radiosity/hierarchy/nodes.hpp>
 #include <radiosity/hierarchy/refine.hpp>
+#include <radiosity/hierarchy/stopping.hpp>
 #include <radiosity/io/gltf.hpp>
 #include <radiosity/io/gltf_load.hpp>
 #include <radiosity/io/gltf_read.hpp>

@@ -455,18 +455,22 @@ inline double larger_change(double change, double moved) {
 
 /// Push-pull: push, then at every leaf B = E + rho s h, with h its pushed irradiance (total)
 /// and s its row_scale (scale_row_sums), then pull. Returns the largest
-/// change of a leaf's B (every band; not finite where a B is not). In a fixed order, or with
-/// `levels` shared among threads (push, pull), with the same bits. Cost: O(nodes).
+/// change of a leaf's B (every band; not finite where a B is not), in the max norm, or with
+/// `weight` (per node) in the weighted one, max |change_i| / w_i (ContractionNorm,
+/// stopping.hpp). In a fixed order, or with `levels` shared among threads (push, pull), with
+/// the same bits. Cost: O(nodes).
 template <std::size_t K>
 double push_pull(const Hierarchy& h, NodeValues<K>& v, std::vector<double>& total,
-                 std::vector<double>& down, const NodeLevels* levels = nullptr) {
+                 std::vector<double>& down, const NodeLevels* levels = nullptr,
+                 const std::vector<double>* weight = nullptr) {
     push(h, v, total, down, levels);
     const auto leaf = [&](std::size_t i, double change) {
         if (!h.is_leaf(static_cast<NodeId>(i))) return change;
+        const double w = weight != nullptr ? (*weight)[i] : 1.0;
         for (std::size_t k = 0; k < K; ++k) {  // B = E + rho H
             const double b =
                 v.E[i * K + k] + v.rho[i * K + k] * (v.row_scale[i] * total[i * K + k]);
-            change = larger_change(change, std::abs(b - v.B[i * K + k]));
+            change = larger_change(change, std::abs(b - v.B[i * K + k]) / w);
             v.B[i * K + k] = b;
         }
         return change;

@@ -108,6 +108,13 @@ struct HierarchyReport {
     /// Enclosed leaves of the last pass, whose irradiance was scaled to a row sum of 1
     /// (HierarchicalOptions::enclosure_rays).
     std::size_t scaled_rows = 0;
+    /// ||R G||_inf of the last pass's sweeps (max over leaves of rho_max s g): a bound on their
+    /// contraction where below 1; sampled rows past 1 / rho at a few leaves put it above.
+    double row_norm = 0.0;
+    /// The contraction q the last pass's sweeps stopped by: row_norm, or where that is 1 or
+    /// more the weighted max norm's (stopping.hpp); 1 or more where neither gave a bound (then
+    /// the largest of the last three observed contractions stood in).
+    double contraction = 1.0;
     std::size_t checkpoints = 0;  ///< checkpoints written
     bool resumed = false;         ///< continued from CheckpointOptions::resume
     /// Links per element.

@@ -17,6 +17,7 @@
 #include <radiosity/hierarchy/gather.hpp>
 #include <radiosity/hierarchy/options.hpp>
 #include <radiosity/hierarchy/refine.hpp>
+#include <radiosity/hierarchy/stopping.hpp>
 #include <radiosity/progress.hpp>
 #include <radiosity/solver/session.hpp>
 #include <radiosity/solver/system.hpp>
@@ -190,14 +191,15 @@ class HierarchySolve {
     std::size_t bytes() const {
         // Per link its class shares if any (ClassShares, and those sampled in this pass so
         // far); per node E, rho, B, H, push-pull's total and rho_max, B_max, exposure,
-        // row_scale; per mixed cluster Hc, Bc, S and push-pull's `down` (the classes and the
-        // rest); per top node its index among the mixed.
+        // row_scale, and the stopping rule's weight where it has one; per mixed cluster Hc, Bc, S
+        // and push-pull's `down` (the classes and the rest); per top node its index among the
+        // mixed.
         return h_.bytes() + links_.capacity() * sizeof(Link) +
                (shares_.entries.capacity() + sampled_shares_.capacity()) * sizeof(ClassShares) +
                shares_.begin.capacity() * sizeof(std::size_t) +
                h_.size() * (5 * K + 4) * sizeof(double) +
                v_.S.size() / facing_classes * ((3 * K + 1) * facing_classes + K) * sizeof(double) +
-               v_.mixed.size() * sizeof(NodeId);
+               v_.mixed.size() * sizeof(NodeId) + norm_.weight.capacity() * sizeof(double);
     }
     /// A hash of everything that decides the result: the roots' geometry and materials and the
     /// options; a checkpoint carries it, and is refused by a run whose hash differs.
@@ -426,11 +428,16 @@ class HierarchySolve {
 
     /// Gather, exchange and push-pull until the bound on the error of B meets the tolerance.
     /// The bound is the sweeping solvers' (session.hpp), q / (1 - q) times the last change,
-    /// with q = ||R G||_inf of the sweeps' operator (row_sums) where that is below 1; where it
-    /// is not (sampled row sums scatter past 1 / rho at some leaves: room3's do), q is the
-    /// largest of the last three observed contractions change_k / change_k-1, an estimate
-    /// rather than a bound, which the guard backs (2 sweeps_needed + 10 at that q, at most 1000).
-    /// Sweeps that run away (runs_away) are held and start again (hold_and_restart).
+    /// with q = ||R G||_inf of the sweeps' operator (row_sums) where that is below 1, or else
+    /// ||R G||_w of a weighted max norm in which the changes are then measured (stopping.hpp:
+    /// sampled row sums scatter past 1 / rho at some leaves, room3's and the Cornell box's do);
+    /// relative to the largest reflected radiosity (reflected_size), not to the lamps. Where no
+    /// weights give a q below 1 either, q is the largest of the last three observed contractions
+    /// change_k / change_k-1, an estimate rather than a bound, which the guard backs (2
+    /// sweeps_needed + 10 at that q, at most 1000). (That estimate had stopped the Cornell box's
+    /// few faces at seed 1 after 4 sweeps: 0.34 over the first three, while the sweeps went on
+    /// contracting by 0.65, and 0.4 to 0.6% dark.) Sweeps that run away (runs_away) are held
+    /// and start again (hold_and_restart).
     template <Visibility V>
     void iterate(const V& scene, double tolerance, std::size_t cap,
                  const ProgressCallback& progress, Report& report, HierarchyReport& hr) {
@@ -461,7 +468,8 @@ class HierarchySolve {
             hr.exchange_seconds += seconds_since(t);
             hr.exchange_bytes_per_sweep = exchange.last_bytes();
             t = std::chrono::steady_clock::now();
-            const double change = push_pull(h_, v_, total, down, &levels_);
+            const double change = push_pull(h_, v_, total, down, &levels_,
+                                            norm_.weight.empty() ? nullptr : &norm_.weight);
             hr.push_pull_seconds += seconds_since(t);
             if (!state_.held && runs_away(emission, change) &&
                 hold_and_restart(groups, exchange, total, down, hr)) {
@@ -511,8 +519,9 @@ class HierarchySolve {
     /// The row sums g of the pass's operator, and the leaves' scales (scale_row_sums), from one
     /// sweep's gather and push with every node and class sending B = 1 (B and Bc kept aside and put
     /// back; H and Hc are the next gather's to overwrite); with `hold`, the impossible ones held.
-    /// Sets q_rows_, the stopping rule's contraction, exact for the operator the sweeps then apply.
-    /// Cost: one sweep.
+    /// Sets norm_, the stopping rule's norm and contraction, exact for the operator the sweeps
+    /// then apply (weigh_contraction, stopping.hpp). Cost: one sweep, and where ||R G||_inf >= 1
+    /// a few more.
     void row_sums(const LinkGroups& groups, ReceiverExchange& exchange, std::vector<double>& total,
                   std::vector<double>& down, bool hold, HierarchyReport& hr) {
         std::vector<double> B(v_.B.size(), 1.0), Bc(v_.Bc.size(), 1.0);
@@ -524,9 +533,36 @@ class HierarchySolve {
         std::swap(B, v_.B);
         std::swap(Bc, v_.Bc);
         const HeldRows held = scale_row_sums(h_, v_, total, hold);
-        q_rows_ = held.norm;
+        norm_ = ContractionNorm{{}, held.norm};
+        if (held.norm >= 1.0)
+            norm_ = weigh_contraction(h_, leaf_rows(h_, v_, total), held.norm,
+                                      [&](const std::vector<double>& w) {
+                                          return unit_rows(groups, exchange, w, total, down);
+                                      });
         hr.held_rows = held.held;
         hr.scaled_rows = held.scaled;
+        hr.row_norm = held.norm;
+        hr.contraction = norm_.q;
+    }
+
+    /// M w at the leaves (leaf_rows, stopping.hpp): one sweep from B = w (every band) at the
+    /// leaves, pulled up to the clusters and their classes, without E; B, Bc and B_max are put
+    /// back after (H and Hc are the next gather's to overwrite, as in row_sums). Cost: one sweep.
+    std::vector<double> unit_rows(const LinkGroups& groups, ReceiverExchange& exchange,
+                                  const std::vector<double>& w, std::vector<double>& total,
+                                  std::vector<double>& down) {
+        std::vector<double> B(v_.B.size(), 0.0), Bc = v_.Bc, B_max = v_.B_max;
+        for (NodeId i = 0; i < h_.size(); ++i)
+            if (h_.is_leaf(i)) std::fill_n(&B[i * K], K, w[i]);
+        std::swap(B, v_.B);
+        pull(h_, v_, &levels_);
+        gather_links(h_, links_, groups, shares_, v_);
+        share_irradiance(groups, exchange, {0.0, 0.0});
+        push(h_, v_, total, down, &levels_);
+        std::swap(B, v_.B);
+        v_.Bc = std::move(Bc);
+        v_.B_max = std::move(B_max);
+        return leaf_rows(h_, v_, total);
     }
 
     /// Whether the sweeps run away: the brightest leaf past E_max / (1 - rho_max), which bounds
@@ -587,9 +623,11 @@ class HierarchySolve {
             st.previous > 0.0 && std::isfinite(st.previous) ? change / st.previous : 1.0;
         st.previous = change;
         const double q_seen = *std::max_element(st.ratio.begin(), st.ratio.end());
-        const double q = q_rows_ < 1.0 ? q_rows_ : (it >= 3 ? q_seen : 1.0);
+        const double q = norm_.q < 1.0 ? norm_.q : (it >= 3 ? q_seen : 1.0);
         const StoppingRule rule = StoppingRule::sweeps(tolerance, q, cap);
-        const double size = v_.B_max[0];  // the top node's: the brightest leaf, ||B||_inf
+        // The change and the bound relative to the largest reflected radiosity (stopping.hpp);
+        // the change in the sweeps' norm, weighted where ||R G||_inf >= 1 (so residual too).
+        const double size = reflected_size(h_, v_);
         report.residual = size > 0.0 ? change / size : change;
         report.error_bound = rule.bound(change, size);
         report.converged = rule.met(report.error_bound);
@@ -666,7 +704,8 @@ class HierarchySolve {
     RefineRound round_;
     SolveState state_;
     std::vector<NodeId> split_log_;
-    double emitted_ = 0.0, q_rows_ = 1.0;
+    double emitted_ = 0.0;
+    ContractionNorm norm_;                  // the sweeps' norm and contraction in it (row_sums)
     std::vector<double> exchange_scratch_;  // share_irradiance's, kept from sweep to sweep
     NodeLevels levels_;                     // the pass's nodes by level (iterate)
     const Bvh* exposure_scene_ = nullptr;   // rays for exposure (set_exposure); null: none
