@@ -3,22 +3,38 @@
 // series, Spanier & Gelbard 1969), with no form factor, no patch and no solver of the library,
 // only its meshing (the same faces, cut as the program cuts them) and its BVH for the rays.
 //
-//   bench_reference SCENE [WALKS]   SCENE: an RRV .xml, an OBJ or a built-in scene name
+//   bench_reference SCENE [WALKS]              per material
+//   bench_reference SCENE [WALKS] --surfaces   per surface (bench::surfaces_of: the input faces
+//                                              grouped by material and plane, as in
+//                                              bench_hierarchy surfaces)
 //
-// For each material that emits nothing, WALKS points uniform in area over its faces; from each,
+//   SCENE: an RRV .xml, an OBJ or a built-in scene name; WALKS: per group and band (4000000).
+//
+// For each material (or surface) that emits nothing, WALKS points uniform in area over its faces
+// (the meshed pieces, each mapped to a surface through the input face it was cut from); from each,
 // a walk in band k: B(x) = E(x) + rho(x) * (the radiosity seen along a cosine-weighted ray), the
 // walk going on with probability rho and scoring E at every face it reaches (analog absorption:
 // unbiased, the score per walk 0 or E-sized). A ray that meets the back of a face or leaves the
 // scene ends the walk (one-sided faces: what is seen from behind sends nothing). Prints per
-// material and band the mean B and its standard error. Seeded: the same numbers on every run.
+// material and band the mean B and its standard error; per surface, its area, the mean of the
+// bands and its standard error, the three bands, the walk count and the seconds taken. Seeded per
+// group and band: the same numbers on every run.
 #include <radiosity/radiosity.hpp>
 
+#include "support/tessellated_box.hpp"
+
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <map>
 #include <numbers>
+#include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace {
@@ -26,14 +42,15 @@ namespace {
 using radiosity::Rgb;
 using radiosity::Vec3;
 
-radiosity::Mesh<Rgb> load(const std::string& name) {
+/// The scene named on the command line (kept as a Scene: bench::surfaces_of groups its faces).
+radiosity::Scene<Rgb> load(const std::string& name) {
     const auto ends = [&](const char* x) {
         const std::string s(x);
         return name.size() >= s.size() && name.compare(name.size() - s.size(), s.size(), s) == 0;
     };
-    if (ends(".xml")) return radiosity::build_mesh(radiosity::read_rrv<Rgb>(name));
-    if (ends(".obj")) return radiosity::build_mesh(radiosity::read_obj<Rgb>(name));
-    return radiosity::build_mesh(radiosity::builtin_scene<Rgb>(name));
+    if (ends(".xml")) return radiosity::read_rrv<Rgb>(name);
+    if (ends(".obj")) return radiosity::read_obj<Rgb>(name);
+    return radiosity::builtin_scene<Rgb>(name);
 }
 
 /// A cosine-weighted direction about unit normal n (Malley's method).
@@ -61,70 +78,186 @@ Vec3 polygon_point(std::span<const Vec3> p, radiosity::Rng& rng) {
     return (1.0 - s) * p[0] + s * (1.0 - v) * p[k] + s * v * p[k + 1];
 }
 
-}  // namespace
+/// E and rho of a meshed face, its material and the input face it was cut from.
+struct Face {
+    Rgb E, rho;
+    std::uint32_t material, surface;
+};
 
-int main(int argc, char** argv) {
-    if (argc < 2) {
-        std::fprintf(stderr, "usage: bench_reference SCENE [WALKS]\n");
-        return 2;
-    }
-    const long walks = argc > 2 ? std::atol(argv[2]) : 4000000;
-    // The faces the program solves: cut where others cross them, pieces in solids left out.
-    radiosity::SubdivisionOptions roots;  // the faces as they are, but cut (as the program does)
-    const auto meshed = radiosity::subdivide_with_report(load(argv[1]), roots);
-    const radiosity::PatchTable faces = radiosity::make_patch_table(meshed.mesh);
-    const radiosity::Bvh bvh(faces);
-    struct Face {
-        Rgb E, rho;
-        std::uint32_t material;
-    };
-    std::vector<Face> data;
-    for (auto f : meshed.mesh.faces()) {
-        const auto& d = meshed.mesh.data(f);
-        data.push_back({d.emission, d.reflectance, d.material});
-    }
-    std::map<std::uint32_t, std::vector<std::uint32_t>> by_material;
-    for (std::uint32_t f = 0; f < faces.size(); ++f) by_material[data[f].material].push_back(f);
-    double scale = 0.0;
-    for (std::uint32_t f = 0; f < faces.size(); ++f)
-        for (const Vec3& v : faces.polygon(f)) scale = std::max(scale, glm::length(v));
-    const double t_min = 1e-9 * (scale + 1.0);
-    std::printf("%zu faces; %ld walks per material and band\n", faces.size(), walks);
-    std::printf("| material | area | band | mean B | standard error |\n|---|---|---|---|---|\n");
-    for (const auto& [material, list] : by_material) {
-        if (radiosity::mean_band(data[list[0]].E) > 0.0f) continue;  // emitters: B >= E
-        std::vector<double> cdf;                                     // of the material's face areas
-        double area = 0.0;
-        for (const std::uint32_t f : list) cdf.push_back(area += faces.area(f));
-        for (std::size_t k = 0; k < 3; ++k) {
-            double sum = 0.0, sum2 = 0.0;
+/// What every walk reads: the meshed faces (as patches), their BVH, their data, and the ray
+/// offset. One bundle so that both modes run the one walk below.
+struct Walker {
+    const radiosity::PatchTable& faces;
+    const radiosity::Bvh& bvh;
+    const std::vector<Face>& data;
+    double t_min;
+};
+
+/// A group of faces to start walks from (a material or a surface): the faces, the running sum of
+/// their areas (to pick one in proportion to area) and the total.
+struct Group {
+    std::vector<std::uint32_t> list;
+    std::vector<double> cdf;
+    double area = 0.0;
+};
+
+/// The group of `list` with its area table (see Group).
+Group group_of(const radiosity::PatchTable& faces, std::vector<std::uint32_t> list) {
+    Group g{std::move(list), {}, 0.0};
+    for (const std::uint32_t f : g.list) g.cdf.push_back(g.area += faces.area(f));
+    return g;
+}
+
+/// A mean and its standard error.
+struct Estimate {
+    double mean = 0.0, error = 0.0;
+};
+
+/// The mean B in band k over group g: `walks` walks from points uniform in area over its faces
+/// (see the file comment), walk i seeded with splitmix64(i * golden ratio ^ key ^ k), so that each
+/// group (key) and band has its own deterministic stream. The one estimator of both modes.
+Estimate walk_mean(const Walker& w, const Group& g, std::uint64_t key, std::size_t k, long walks) {
+    const auto& faces = w.faces;
+    const auto& data = w.data;
+    double sum = 0.0, sum2 = 0.0;
 #if defined(RADIOSITY_WITH_OPENMP)
 #pragma omp parallel for reduction(+ : sum, sum2) schedule(dynamic, 4096)
 #endif
-            for (long i = 0; i < walks; ++i) {
-                radiosity::Rng rng(radiosity::splitmix64(std::uint64_t(i) * 0x9e3779b97f4a7c15ull ^
-                                                         (std::uint64_t(material) << 40) ^ k));
-                const double a = rng.uniform() * area;
-                const auto at = std::upper_bound(cdf.begin(), cdf.end(), a) - cdf.begin();
-                std::uint32_t f = list[std::min<std::size_t>(std::size_t(at), list.size() - 1)];
-                Vec3 x = polygon_point(faces.polygon(f), rng);
-                double score = radiosity::band(data[f].E, k);
-                while (rng.uniform() < radiosity::band(data[f].rho, k)) {
-                    const Vec3 d = cosine_direction(faces.normal(f), rng);
-                    const auto hit = bvh.intersect(x, d, t_min);
-                    if (!hit || glm::dot(faces.normal(hit->patch), d) >= 0.0) break;
-                    x += hit->t * d;
-                    f = hit->patch;
-                    score += radiosity::band(data[f].E, k);
-                }
-                sum += score;
-                sum2 += score * score;
-            }
-            const double mean = sum / double(walks);
-            const double error =
-                std::sqrt(std::max(0.0, sum2 / double(walks) - mean * mean) / double(walks));
-            std::printf("| %u | %.2f | %zu | %.5f | %.5f |\n", material, area, k, mean, error);
+    for (long i = 0; i < walks; ++i) {
+        radiosity::Rng rng(
+            radiosity::splitmix64(std::uint64_t(i) * 0x9e3779b97f4a7c15ull ^ key ^ k));
+        const double a = rng.uniform() * g.area;
+        const auto at = std::upper_bound(g.cdf.begin(), g.cdf.end(), a) - g.cdf.begin();
+        std::uint32_t f = g.list[std::min<std::size_t>(std::size_t(at), g.list.size() - 1)];
+        Vec3 x = polygon_point(faces.polygon(f), rng);
+        double score = radiosity::band(data[f].E, k);
+        while (rng.uniform() < radiosity::band(data[f].rho, k)) {
+            const Vec3 d = cosine_direction(faces.normal(f), rng);
+            const auto hit = w.bvh.intersect(x, d, w.t_min);
+            if (!hit || glm::dot(faces.normal(hit->patch), d) >= 0.0) break;
+            x += hit->t * d;
+            f = hit->patch;
+            score += radiosity::band(data[f].E, k);
+        }
+        sum += score;
+        sum2 += score * score;
+    }
+    const double mean = sum / double(walks);
+    return {mean, std::sqrt(std::max(0.0, sum2 / double(walks) - mean * mean) / double(walks))};
+}
+
+/// Per material and band, the mean B and its standard error (the program's first mode; its
+/// output as it has always been).
+void per_material(const Walker& w, long walks) {
+    std::map<std::uint32_t, std::vector<std::uint32_t>> by_material;
+    for (std::uint32_t f = 0; f < w.faces.size(); ++f) by_material[w.data[f].material].push_back(f);
+    std::printf("%zu faces; %ld walks per material and band\n", w.faces.size(), walks);
+    std::printf("| material | area | band | mean B | standard error |\n|---|---|---|---|---|\n");
+    for (auto& [material, list] : by_material) {
+        if (radiosity::mean_band(w.data[list[0]].E) > 0.0f) continue;  // emitters: B >= E
+        const Group g = group_of(w.faces, std::move(list));
+        for (std::size_t k = 0; k < 3; ++k) {
+            const Estimate e = walk_mean(w, g, std::uint64_t(material) << 40, k, walks);
+            std::printf("| %u | %.2f | %zu | %.5f | %.5f |\n", material, g.area, k, e.mean,
+                        e.error);
         }
     }
+}
+
+/// Per surface of the scene (bench::surfaces_of, so that the rows match bench_hierarchy
+/// surfaces'): its area, the mean of the bands of B with its standard error, and each band. A
+/// meshed face belongs to the surface of the input face it was cut from. Surfaces that emit, and
+/// those whose faces the meshing left out, are skipped. Largest first, as bench_hierarchy sorts.
+void per_surface(const Walker& w, const radiosity::Scene<Rgb>& scene, long walks) {
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<std::string> names;
+    const std::vector<std::uint32_t> surface = bench::surfaces_of(scene, names);
+    std::vector<std::vector<std::uint32_t>> lists(names.size());
+    std::vector<char> emits(names.size(), 0);
+    for (std::uint32_t f = 0; f < w.faces.size(); ++f) {
+        const std::uint32_t s = surface.at(w.data[f].surface);
+        lists[s].push_back(f);
+        emits[s] |= radiosity::mean_band(w.data[f].E) > 0.0f;
+    }
+    std::vector<std::size_t> order;
+    std::size_t emitting = 0, empty = 0;
+    for (std::size_t s = 0; s < names.size(); ++s) {
+        if (lists[s].empty())
+            ++empty;
+        else if (emits[s])
+            ++emitting;
+        else
+            order.push_back(s);
+    }
+    std::vector<Group> groups(names.size());
+    for (const std::size_t s : order) groups[s] = group_of(w.faces, std::move(lists[s]));
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return groups[a].area > groups[b].area; });
+    std::printf(
+        "%zu faces, %zu surfaces (%zu emitting, %zu left out by the meshing, not listed); %ld "
+        "walks per surface and band\n",
+        w.faces.size(), names.size(), emitting, empty, walks);
+    std::printf(
+        "| surface | area | mean B (mean of the bands) | standard error | B per band | standard "
+        "errors per band |\n|---|---|---|---|---|---|\n");
+    for (const std::size_t s : order) {
+        Estimate e[3];
+        for (std::size_t k = 0; k < 3; ++k)  // a stream of its own, apart from the materials'
+            e[k] = walk_mean(w, groups[s], (std::uint64_t(s) << 40) ^ (1ull << 63), k, walks);
+        // The bands' walks are independent: the variance of their mean is the sum over 9.
+        const double mean = (e[0].mean + e[1].mean + e[2].mean) / 3.0;
+        const double error =
+            std::sqrt(e[0].error * e[0].error + e[1].error * e[1].error + e[2].error * e[2].error) /
+            3.0;
+        std::printf("| %s | %.2f | %.5f | %.5f | %.5f %.5f %.5f | %.5f %.5f %.5f |\n",
+                    names[s].c_str(), groups[s].area, mean, error, e[0].mean, e[1].mean, e[2].mean,
+                    e[0].error, e[1].error, e[2].error);
+        std::fflush(stdout);
+    }
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("%zu surfaces, %ld walks per surface and band, %.1f s\n", order.size(), walks,
+                seconds);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    bool surfaces = false;
+    std::vector<const char*> args;
+    for (int i = 1; i < argc; ++i) {
+        if (std::strcmp(argv[i], "--surfaces") == 0)
+            surfaces = true;
+        else
+            args.push_back(argv[i]);
+    }
+    if (args.empty() || args.size() > 2) {
+        std::fprintf(stderr, "usage: bench_reference SCENE [WALKS] [--surfaces]\n");
+        return 2;
+    }
+    const long walks = args.size() > 1 ? std::atol(args[1]) : 4000000;
+    if (walks < 1) {
+        std::fprintf(stderr, "bench_reference: WALKS must be a positive count\n");
+        return 2;
+    }
+    const radiosity::Scene<Rgb> scene = load(args[0]);
+    // The faces the program solves: cut where others cross them, pieces in solids left out.
+    radiosity::SubdivisionOptions roots;  // the faces as they are, but cut (as the program does)
+    const auto meshed = radiosity::subdivide_with_report(radiosity::build_mesh(scene), roots);
+    const radiosity::PatchTable faces = radiosity::make_patch_table(meshed.mesh);
+    const radiosity::Bvh bvh(faces);
+    std::vector<Face> data;
+    for (auto f : meshed.mesh.faces()) {
+        const auto& d = meshed.mesh.data(f);
+        data.push_back({d.emission, d.reflectance, d.material, d.surface});
+    }
+    double scale = 0.0;
+    for (std::uint32_t f = 0; f < faces.size(); ++f)
+        for (const Vec3& v : faces.polygon(f)) scale = std::max(scale, glm::length(v));
+    const Walker w{faces, bvh, data, 1e-9 * (scale + 1.0)};
+    if (surfaces)
+        per_surface(w, scene, walks);
+    else
+        per_material(w, walks);
     return 0;
 }
