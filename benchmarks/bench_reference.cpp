@@ -7,6 +7,9 @@
 //   bench_reference SCENE [WALKS] --surfaces   per surface (bench::surfaces_of: the input faces
 //                                              grouped by material and plane, as in
 //                                              bench_hierarchy surfaces)
+//   bench_reference SCENE [WALKS] --region X0 Y0 Z0 X1 Y1 Z1   per surface, the walks started
+//                                              only inside that box (the area column: of the
+//                                              faces that meet it), e.g. the floor under a table
 //
 //   SCENE: an RRV .xml, an OBJ or a built-in scene name; WALKS: per group and band (4000000).
 //
@@ -30,6 +33,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <span>
@@ -101,6 +105,22 @@ struct Group {
     double area = 0.0;
 };
 
+/// A box that the walks' starting points are kept to (--region): a point drawn outside it is
+/// drawn again, so that the mean is over the part of a surface inside it (the floor under a
+/// table, where a surface's mean would hide it). The whole space by default.
+struct Region {
+    Vec3 lo{-std::numeric_limits<double>::infinity()}, hi{std::numeric_limits<double>::infinity()};
+    bool contains(const Vec3& x) const {
+        return glm::all(glm::greaterThanEqual(x, lo)) && glm::all(glm::lessThanEqual(x, hi));
+    }
+    /// Whether polygon p's bounding box meets the box.
+    bool meets(std::span<const Vec3> p) const {
+        Vec3 a = p[0], b = p[0];
+        for (const Vec3& v : p) a = glm::min(a, v), b = glm::max(b, v);
+        return glm::all(glm::lessThanEqual(a, hi)) && glm::all(glm::greaterThanEqual(b, lo));
+    }
+};
+
 /// The group of `list` with its area table (see Group).
 Group group_of(const radiosity::PatchTable& faces, std::vector<std::uint32_t> list) {
     Group g{std::move(list), {}, 0.0};
@@ -116,7 +136,8 @@ struct Estimate {
 /// The mean B in band k over group g: `walks` walks from points uniform in area over its faces
 /// (see the file comment), walk i seeded with splitmix64(i * golden ratio ^ key ^ k), so that each
 /// group (key) and band has its own deterministic stream. The one estimator of both modes.
-Estimate walk_mean(const Walker& w, const Group& g, std::uint64_t key, std::size_t k, long walks) {
+Estimate walk_mean(const Walker& w, const Group& g, std::uint64_t key, std::size_t k, long walks,
+                   const Region& region = {}) {
     const auto& faces = w.faces;
     const auto& data = w.data;
     double sum = 0.0, sum2 = 0.0;
@@ -126,10 +147,15 @@ Estimate walk_mean(const Walker& w, const Group& g, std::uint64_t key, std::size
     for (long i = 0; i < walks; ++i) {
         radiosity::Rng rng(
             radiosity::splitmix64(std::uint64_t(i) * 0x9e3779b97f4a7c15ull ^ key ^ k));
-        const double a = rng.uniform() * g.area;
-        const auto at = std::upper_bound(g.cdf.begin(), g.cdf.end(), a) - g.cdf.begin();
-        std::uint32_t f = g.list[std::min<std::size_t>(std::size_t(at), g.list.size() - 1)];
-        Vec3 x = polygon_point(faces.polygon(f), rng);
+        std::uint32_t f = 0;
+        Vec3 x;
+        for (int tries = 0; tries < 1000000; ++tries) {  // (the first, without a region)
+            const double a = rng.uniform() * g.area;
+            const auto at = std::upper_bound(g.cdf.begin(), g.cdf.end(), a) - g.cdf.begin();
+            f = g.list[std::min<std::size_t>(std::size_t(at), g.list.size() - 1)];
+            x = polygon_point(faces.polygon(f), rng);
+            if (region.contains(x)) break;
+        }
         double score = radiosity::band(data[f].E, k);
         while (rng.uniform() < radiosity::band(data[f].rho, k)) {
             const Vec3 d = cosine_direction(faces.normal(f), rng);
@@ -168,13 +194,15 @@ void per_material(const Walker& w, long walks) {
 /// surfaces'): its area, the mean of the bands of B with its standard error, and each band. A
 /// meshed face belongs to the surface of the input face it was cut from. Surfaces that emit, and
 /// those whose faces the meshing left out, are skipped. Largest first, as bench_hierarchy sorts.
-void per_surface(const Walker& w, const radiosity::Scene<Rgb>& scene, long walks) {
+void per_surface(const Walker& w, const radiosity::Scene<Rgb>& scene, long walks,
+                 const Region& region) {
     const auto start = std::chrono::steady_clock::now();
     std::vector<std::string> names;
     const std::vector<std::uint32_t> surface = bench::surfaces_of(scene, names);
     std::vector<std::vector<std::uint32_t>> lists(names.size());
     std::vector<char> emits(names.size(), 0);
     for (std::uint32_t f = 0; f < w.faces.size(); ++f) {
+        if (!region.meets(w.faces.polygon(f))) continue;  // (left out as if meshed away)
         const std::uint32_t s = surface.at(w.data[f].surface);
         lists[s].push_back(f);
         emits[s] |= radiosity::mean_band(w.data[f].E) > 0.0f;
@@ -203,7 +231,8 @@ void per_surface(const Walker& w, const radiosity::Scene<Rgb>& scene, long walks
     for (const std::size_t s : order) {
         Estimate e[3];
         for (std::size_t k = 0; k < 3; ++k)  // a stream of its own, apart from the materials'
-            e[k] = walk_mean(w, groups[s], (std::uint64_t(s) << 40) ^ (1ull << 63), k, walks);
+            e[k] =
+                walk_mean(w, groups[s], (std::uint64_t(s) << 40) ^ (1ull << 63), k, walks, region);
         // The bands' walks are independent: the variance of their mean is the sum over 9.
         const double mean = (e[0].mean + e[1].mean + e[2].mean) / 3.0;
         const double error =
@@ -224,15 +253,24 @@ void per_surface(const Walker& w, const radiosity::Scene<Rgb>& scene, long walks
 
 int main(int argc, char** argv) {
     bool surfaces = false;
+    Region region;
     std::vector<const char*> args;
     for (int i = 1; i < argc; ++i) {
-        if (std::strcmp(argv[i], "--surfaces") == 0)
+        if (std::strcmp(argv[i], "--surfaces") == 0) {
             surfaces = true;
-        else
+        } else if (std::strcmp(argv[i], "--region") == 0 && i + 6 < argc) {
+            for (int c = 0; c < 3; ++c) region.lo[c] = std::atof(argv[i + 1 + c]);
+            for (int c = 0; c < 3; ++c) region.hi[c] = std::atof(argv[i + 4 + c]);
+            surfaces = true;
+            i += 6;
+        } else {
             args.push_back(argv[i]);
+        }
     }
     if (args.empty() || args.size() > 2) {
-        std::fprintf(stderr, "usage: bench_reference SCENE [WALKS] [--surfaces]\n");
+        std::fprintf(stderr,
+                     "usage: bench_reference SCENE [WALKS] [--surfaces] [--region X0 Y0 Z0 X1 Y1 "
+                     "Z1]\n");
         return 2;
     }
     const long walks = args.size() > 1 ? std::atol(args[1]) : 4000000;
@@ -256,7 +294,7 @@ int main(int argc, char** argv) {
         for (const Vec3& v : faces.polygon(f)) scale = std::max(scale, glm::length(v));
     const Walker w{faces, bvh, data, 1e-9 * (scale + 1.0)};
     if (surfaces)
-        per_surface(w, scene, walks);
+        per_surface(w, scene, walks, region);
     else
         per_material(w, walks);
     return 0;
