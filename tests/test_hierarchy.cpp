@@ -102,6 +102,45 @@ void add_box(Scene<Rgb>& s, const Vec3& lo, const Vec3& hi) {
 
 const HierarchicalOptions fine{.link_error = 1e-6, .min_area = 1e-4};
 
+/// Links set by hand, sorted and grouped for the sweeps, without class shares.
+struct HandLinks {
+    LinkVector links;
+    LinkGroups groups;
+    GroupShares shares;
+    explicit HandLinks(LinkVector l) : links(std::move(l)) {
+        sort_links(links);
+        groups = group_links(links);
+        shares = group_shares(groups, {});
+    }
+};
+
+/// h's node values with E = 1 and rho = 0.5 at `faces`, 0 elsewhere, and S set.
+NodeValues<1> half_furnace(const Hierarchy& h, const std::vector<NodeId>& faces) {
+    NodeValues<1> v;
+    v.extend(h, h.size());
+    for (const NodeId n : faces) v.E[n] = 1.0, v.rho[n] = 0.5, v.rho_max[n] = 0.5;
+    facing_areas(h, v);
+    return v;
+}
+
+/// The row sums of the hand links: one gather and push with every node sending B = 1, then
+/// scale_row_sums (with `hold`).
+HeldRows unit_row_sums(const Hierarchy& h, const HandLinks& l, NodeValues<1>& v,
+                       std::vector<double>& total, std::vector<double>& down, bool hold) {
+    std::fill(v.B.begin(), v.B.end(), 1.0);
+    gather_links(h, l.links, l.groups, l.shares, v);
+    push(h, v, total, down);
+    return scale_row_sums(h, v, total, hold);
+}
+
+/// The element nodes of h (its roots, where nothing is split: the cube's six faces).
+std::vector<NodeId> element_nodes(const Hierarchy& h) {
+    std::vector<NodeId> out;
+    for (NodeId n = 0; n < h.size(); ++n)
+        if (!h.is_cluster(n)) out.push_back(n);
+    return out;
+}
+
 }  // namespace
 
 TEST_CASE("furnace: B = E / (1 - rho) in total power and, to the link error, leaf by leaf") {
@@ -199,9 +238,7 @@ TEST_CASE("scale_row_sums: an enclosed leaf to a row sum of 1, within a factor 2
     // node sends B = 1) set by hand: enclosed ones are scaled by 1 / g, at most by
     // row_scale_limit either way; the rest keep 1.
     const Hierarchy h = detail::hierarchy_of(build_mesh(test::furnace_cube(1.0f, 0.5f)));
-    std::vector<NodeId> faces;
-    for (NodeId n = 0; n < h.size(); ++n)
-        if (!h.is_cluster(n)) faces.push_back(n);
+    const std::vector<NodeId> faces = element_nodes(h);
     REQUIRE(faces.size() == 6);
     NodeValues<1> v;
     v.extend(h, h.size());
@@ -229,30 +266,19 @@ TEST_CASE("a weighted max norm bounds the sweeps' contraction where a row passes
     // between the two in which every sweep contracts and q / (1 - q) times a sweep's change
     // bounds the error.
     const Hierarchy h = detail::hierarchy_of(build_mesh(test::furnace_cube(1.0f, 0.5f)));
-    std::vector<NodeId> faces;
-    for (NodeId n = 0; n < h.size(); ++n)
-        if (!h.is_cluster(n)) faces.push_back(n);
+    const std::vector<NodeId> faces = element_nodes(h);
     REQUIRE(faces.size() == 6);
     const NodeId a = faces[0], b = faces[1], c = faces[2];
-    LinkVector links{
-        {a, b, 2.2f, 1.0f}, {a, c, 0.2f, 1.0f}, {b, c, 0.4f, 1.0f}, {c, a, 0.4f, 1.0f}};
-    sort_links(links);
-    const LinkGroups groups = group_links(links);
-    const GroupShares shares = group_shares(groups, {});
-    NodeValues<1> v;
-    v.extend(h, h.size());
-    for (const NodeId n : faces) v.E[n] = 1.0, v.rho[n] = 0.5, v.rho_max[n] = 0.5;
+    const HandLinks l(
+        {{a, b, 2.2f, 1.0f}, {a, c, 0.2f, 1.0f}, {b, c, 0.4f, 1.0f}, {c, a, 0.4f, 1.0f}});
+    NodeValues<1> v = half_furnace(h, faces);
     std::vector<double> total, down;
-    facing_areas(h, v);
-    std::fill(v.B.begin(), v.B.end(), 1.0);
-    gather_links(h, links, groups, shares, v);
-    push(h, v, total, down);
-    const HeldRows rows = scale_row_sums(h, v, total, false);
+    const HeldRows rows = unit_row_sums(h, l, v, total, down, false);
     REQUIRE(rows.norm == test::approx(1.2).epsilon(1e-6));
     const auto apply = [&](const std::vector<double>& w) {  // M w: a sweep without E
         for (const NodeId n : faces) v.B[n] = w[n];
         pull(h, v);
-        gather_links(h, links, groups, shares, v);
+        gather_links(h, l.links, l.groups, l.shares, v);
         push(h, v, total, down);
         return leaf_rows(h, v, total);
     };
@@ -282,7 +308,7 @@ TEST_CASE("a weighted max norm bounds the sweeps' contraction where a row passes
     pull(h, v);
     double previous = 0.0;
     for (int sweep = 0; sweep < 30; ++sweep) {
-        gather_links(h, links, groups, shares, v);
+        gather_links(h, l.links, l.groups, l.shares, v);
         const double change = push_pull(h, v, total, down, nullptr, &norm.weight);
         if (sweep > 0) CHECK(change <= norm.q * previous * (1.0 + 1e-9) + 1e-300);
         previous = change;
@@ -1008,31 +1034,19 @@ TEST_CASE("links that gather more than a leaf can are held: the sweeps converge,
     // B = E / (1 - rho) = 2 on both. The other faces have no links: B = E = 1.
     const Mesh<Rgb> cube = build_mesh(test::furnace_cube(1.0f, 0.5f));
     const Hierarchy h = detail::hierarchy_of(cube);
-    std::vector<NodeId> faces;
-    for (NodeId n = 0; n < h.size(); ++n)
-        if (!h.is_cluster(n)) faces.push_back(n);
+    const std::vector<NodeId> faces = element_nodes(h);
     REQUIRE(faces.size() == 6);
     const NodeId a = faces[0], b = faces[1];
-    LinkVector links{{a, b, 3.0f, 1.0f}, {b, a, 3.0f, 1.0f}};
-    sort_links(links);
-    const LinkGroups groups = group_links(links);
-    const GroupShares shares = group_shares(groups, {});
+    const HandLinks l({{a, b, 3.0f, 1.0f}, {b, a, 3.0f, 1.0f}});
     for (const bool hold : {false, true}) {
-        NodeValues<1> v;
-        v.extend(h, h.size());
-        for (const NodeId n : faces) v.E[n] = 1.0, v.rho[n] = 0.5, v.rho_max[n] = 0.5;
+        NodeValues<1> v = half_furnace(h, faces);
         std::vector<double> total, down;
-        facing_areas(h, v);
-        // The row sums: one gather and push with every node sending B = 1.
-        std::fill(v.B.begin(), v.B.end(), 1.0);
-        gather_links(h, links, groups, shares, v);
-        push(h, v, total, down);
-        const HeldRows held = scale_row_sums(h, v, total, hold);
+        const HeldRows held = unit_row_sums(h, l, v, total, down, hold);
         CHECK(held.held == (hold ? 2u : 0u));
         CHECK(held.norm == test::approx(hold ? 0.5 : 1.5).epsilon(1e-12));
         std::fill(v.B.begin(), v.B.end(), 0.0);
         for (int sweep = 0; sweep < 60; ++sweep) {
-            gather_links(h, links, groups, shares, v);
+            gather_links(h, l.links, l.groups, l.shares, v);
             push_pull(h, v, total, down);
         }
         if (!hold) {
