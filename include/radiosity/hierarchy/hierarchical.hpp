@@ -80,7 +80,8 @@ Hierarchy hierarchy_of(const Mesh<S>& mesh) {
 
 /// Solves B = E + R F B on a patch mesh by hierarchical radiosity with clustering (see the file
 /// comment): its faces are the roots, the result's faces the leaves. `tolerance` bounds the
-/// relative error of B for the final links (as for the other solvers, session.hpp); 0
+/// error of B for the final links relative to the largest reflected radiosity B - E
+/// (stopping.hpp), so never looser than the other solvers' ||B - B*|| / ||B*|| (session.hpp); 0
 /// max_iterations: the guard from what the tolerance needs. Throws Error if the hierarchy would
 /// pass options.max_bytes, and Cancelled if the progress callback stops the refinement; a
 /// cancelled solve returns its leaves with report.cancelled. Visibility: a Bvh over the roots.
