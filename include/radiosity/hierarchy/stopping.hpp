@@ -14,8 +14,8 @@
 /// A weighted max norm does. For weights w > 0, ||x||_w = max_i |x_i| / w_i, and a nonnegative M
 /// has ||M||_w = max_i (M w)_i / w_i. That is at least M's spectral radius for every w, and
 /// equal to it at its Perron vector (the Collatz-Wielandt formula; Varga, Matrix Iterative
-/// Analysis, 2000, sec. 2.1). The power iteration w_k+1 = M w_k, from w_0 = 1, moves w towards
-/// that vector, so ||M||_w falls from ||M||_inf towards the radius: the few heavy rows gain
+/// Analysis, ch. 2, nonnegative matrices). The power iteration w_k+1 = M w_k, from w_0 = 1, moves w
+/// towards that vector, so ||M||_w falls from ||M||_inf towards the radius: the few heavy rows gain
 /// weight, and their ratio (M w)_i / w_i drops to what their sources send them. Any w gives a
 /// true bound, so the solve keeps the smallest it meets in a few steps, each one sweep.
 ///
