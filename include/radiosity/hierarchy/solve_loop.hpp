@@ -525,13 +525,7 @@ class HierarchySolve {
     void row_sums(const LinkGroups& groups, ReceiverExchange& exchange, std::vector<double>& total,
                   std::vector<double>& down, bool hold, HierarchyReport& hr) {
         std::vector<double> B(v_.B.size(), 1.0), Bc(v_.Bc.size(), 1.0);
-        std::swap(B, v_.B);
-        std::swap(Bc, v_.Bc);
-        gather_links(h_, links_, groups, shares_, v_);
-        share_irradiance(groups, exchange, {0.0, 0.0});
-        push(h_, v_, total, down, &levels_);
-        std::swap(B, v_.B);
-        std::swap(Bc, v_.Bc);
+        sweep_from(B, Bc, groups, exchange, total, down);
         const HeldRows held = scale_row_sums(h_, v_, total, hold);
         norm_ = ContractionNorm{{}, held.norm};
         if (held.norm >= 1.0)
@@ -545,23 +539,38 @@ class HierarchySolve {
         hr.contraction = norm_.q;
     }
 
-    /// M w at the leaves (leaf_rows, stopping.hpp): one sweep from B = w (every band) at the
-    /// leaves, pulled up to the clusters and their classes, without E; B, Bc and B_max are put
-    /// back after (H and Hc are the next gather's to overwrite, as in row_sums). Cost: one sweep.
-    std::vector<double> unit_rows(const LinkGroups& groups, ReceiverExchange& exchange,
-                                  const std::vector<double>& w, std::vector<double>& total,
-                                  std::vector<double>& down) {
-        std::vector<double> B(v_.B.size(), 0.0), Bc = v_.Bc, B_max = v_.B_max;
-        for (NodeId i = 0; i < h_.size(); ++i)
-            if (h_.is_leaf(i)) std::fill_n(&B[i * K], K, w[i]);
+    /// One sweep's gather, exchange and push from the radiosities B and Bc of every node and
+    /// class instead of the solution's, E left out: `total` then holds each node's pushed
+    /// irradiance. B and Bc are swapped in and back; H and Hc are the next gather's to
+    /// overwrite. Cost: one sweep.
+    void sweep_from(std::vector<double>& B, std::vector<double>& Bc, const LinkGroups& groups,
+                    ReceiverExchange& exchange, std::vector<double>& total,
+                    std::vector<double>& down) {
         std::swap(B, v_.B);
-        pull(h_, v_, &levels_);
+        std::swap(Bc, v_.Bc);
         gather_links(h_, links_, groups, shares_, v_);
         share_irradiance(groups, exchange, {0.0, 0.0});
         push(h_, v_, total, down, &levels_);
         std::swap(B, v_.B);
-        v_.Bc = std::move(Bc);
+        std::swap(Bc, v_.Bc);
+    }
+
+    /// M w at the leaves (leaf_rows, stopping.hpp): sweep_from B = w (every band) at the
+    /// leaves, pulled up to the clusters and their classes (B_max, which pull also sets, put
+    /// back). Cost: one sweep.
+    std::vector<double> unit_rows(const LinkGroups& groups, ReceiverExchange& exchange,
+                                  const std::vector<double>& w, std::vector<double>& total,
+                                  std::vector<double>& down) {
+        std::vector<double> B(v_.B.size(), 0.0), Bc(v_.Bc.size(), 0.0), B_max = v_.B_max;
+        for (NodeId i = 0; i < h_.size(); ++i)
+            if (h_.is_leaf(i)) std::fill_n(&B[i * K], K, w[i]);
+        std::swap(B, v_.B);
+        std::swap(Bc, v_.Bc);
+        pull(h_, v_, &levels_);
+        std::swap(B, v_.B);
+        std::swap(Bc, v_.Bc);
         v_.B_max = std::move(B_max);
+        sweep_from(B, Bc, groups, exchange, total, down);
         return leaf_rows(h_, v_, total);
     }
 

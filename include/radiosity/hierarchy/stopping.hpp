@@ -28,6 +28,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 namespace radiosity {
@@ -101,7 +102,7 @@ ContractionNorm weigh_contraction(const Hierarchy& h, std::vector<double> rows, 
         const double q = weighted_norm(h, y, w);
         const bool settled = q < 1.0 && q > 0.99 * last;
         last = q;
-        if (q < best.q) best = ContractionNorm{w, q};
+        if (q < best.q) best = ContractionNorm{std::move(w), q};  // (w is replaced next)
         if (settled) break;
         w = next_weights(h, std::move(y));
     }
